@@ -1,0 +1,238 @@
+//! Every parameter of the aLPLC2 network in one place: the paper's Table I with its defaults,
+//! and the values the paper leaves unstated, each a documented choice (`docs/model.md`).
+
+/// Largest number of connected neurons `n` per correlator (Eq. 6).
+pub const MAX_N: u8 = 4;
+/// Largest reach `n * s` of a correlator, in pixels.
+pub const MAX_REACH: u8 = 8;
+/// Largest averaging window `d` (Eq. 10), in frames.
+pub const MAX_D: u8 = 16;
+
+/// The parameters of the aLPLC2 network and visuomotor pathway.
+///
+/// `Params::default()` is the paper's Table I plus the choices documented in `docs/model.md`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Params {
+    /// `w`: weight of the ON channel, Eq. (1). Table I: 0.25.
+    pub w: f32,
+    /// `n`: connected neurons per correlator, Eq. (6). Table I: 3.
+    pub n: u8,
+    /// `R_AF`: half side of an attention field's square, in pixels. Table I: 36.
+    pub r_af: u8,
+    /// `T_a`: threshold on `L̂_ON + L̂_OFF` for a new attention field, Eq. (3). Table I: 100.
+    pub t_a: u32,
+    /// `T_d`: mean LPLC2 over `d` frames below which a field retires, Eq. (10). Table I: 5000.
+    pub t_d: u32,
+    /// `d`: frames over which the LPLC2 response is averaged, Eq. (10). Table I: 4.
+    pub d: u8,
+    /// `w_s`: weight in the strength sigmoid, Eq. (11). Table I: 4000.
+    pub w_s: f32,
+    /// `α`: degrees per pixel from the horizontal centroid to an angle, Eqs. (13)–(15). Table I: 0.707.
+    pub alpha: f32,
+    /// `T_s`: global threat `ΣLPLC2` above which the short-mode escape starts. Table I: 7000.
+    pub t_s: u32,
+    /// `C_d`: correlator delay in frames, Eq. (6). Unstated in the paper; 1 (adjacent frames).
+    pub c_d: u8,
+    /// `s`: spacing of the connected neurons in pixels, Eq. (6). Unstated; 1.
+    pub s: u8,
+    /// Retina gain: luminance enters the model as `gain * Y8`. Unstated; 4, a 10-bit scale,
+    /// the smallest gain at which a full-contrast ON edge (weight `w`) can reach `T_a`.
+    pub gain: u8,
+    /// Local-motion scale: correlator products are divided by `2^lm_shift` so that LPLC2
+    /// responses live on the scale of `T_d`, `T_s` and `w_s`. Unstated; see `docs/model.md`.
+    pub lm_shift: u8,
+    /// Noise floor of a quadrant, Eq. (9): a quadrant counts as excited only above it.
+    /// Unstated in the paper (its firmware uses a similar `T_cardinal`); see `docs/model.md`.
+    pub q_floor: u32,
+}
+
+impl Params {
+    /// Table I of the paper plus the documented choices.
+    pub const PAPER: Params = Params {
+        w: 0.25,
+        n: 3,
+        r_af: 36,
+        t_a: 100,
+        t_d: 5000,
+        d: 4,
+        w_s: 4000.0,
+        alpha: 0.707,
+        t_s: 7000,
+        c_d: 1,
+        s: 1,
+        gain: 4,
+        lm_shift: 8,
+        q_floor: 300,
+    };
+
+    /// Names accepted by [`Params::set`], in the order of the paper.
+    pub const NAMES: [&'static str; 14] = [
+        "w", "n", "r_af", "t_a", "t_d", "d", "w_s", "alpha", "t_s", "c_d", "s", "gain", "lm_shift",
+        "q_floor",
+    ];
+
+    /// Checks every value is in the range the model can compute with (no panic, no overflow).
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_f32("w", self.w, 0.0, 4.0)?;
+        check_int("n", self.n.into(), 1, MAX_N.into())?;
+        check_int("r_af", self.r_af.into(), 1, 99)?;
+        check_int("d", self.d.into(), 1, MAX_D.into())?;
+        check_f32("w_s", self.w_s, 1e-3, 1e9)?;
+        check_f32("alpha", self.alpha, -10.0, 10.0)?;
+        check_int("c_d", self.c_d.into(), 1, 255)?;
+        check_int("s", self.s.into(), 1, MAX_REACH.into())?;
+        if u32::from(self.n) * u32::from(self.s) > u32::from(MAX_REACH) {
+            return Err(ParamError::OutOfRange {
+                name: "s",
+                min: 1,
+                max: i64::from(MAX_REACH / self.n),
+            });
+        }
+        check_int("gain", self.gain.into(), 1, 16)?;
+        check_int("lm_shift", self.lm_shift.into(), 0, 24)?;
+        Ok(())
+    }
+
+    /// Sets one parameter by name from its text value, as given on a command line.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), ParamError> {
+        let name: &'static str = Params::NAMES
+            .into_iter()
+            .find(|n| *n == name)
+            .ok_or(ParamError::Unknown)?;
+        let mut p = *self;
+        let v = value.trim();
+        match name {
+            "w" => p.w = parse(name, v)?,
+            "n" => p.n = parse(name, v)?,
+            "r_af" => p.r_af = parse(name, v)?,
+            "t_a" => p.t_a = parse(name, v)?,
+            "t_d" => p.t_d = parse(name, v)?,
+            "d" => p.d = parse(name, v)?,
+            "w_s" => p.w_s = parse(name, v)?,
+            "alpha" => p.alpha = parse(name, v)?,
+            "t_s" => p.t_s = parse(name, v)?,
+            "c_d" => p.c_d = parse(name, v)?,
+            "s" => p.s = parse(name, v)?,
+            "gain" => p.gain = parse(name, v)?,
+            "lm_shift" => p.lm_shift = parse(name, v)?,
+            // the last of NAMES; every other name matched above
+            _ => p.q_floor = parse(name, v)?,
+        }
+        p.validate()?;
+        *self = p;
+        Ok(())
+    }
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params::PAPER
+    }
+}
+
+/// Why a parameter value was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamError {
+    /// No parameter has that name (see [`Params::NAMES`]).
+    Unknown,
+    /// The text is not a number of the parameter's type.
+    NotANumber {
+        /// Parameter name.
+        name: &'static str,
+    },
+    /// The value is outside the range the model supports.
+    OutOfRange {
+        /// Parameter name.
+        name: &'static str,
+        /// Smallest allowed value.
+        min: i64,
+        /// Largest allowed value.
+        max: i64,
+    },
+    /// The correlator delay `c_d` needs more frames of history than this build keeps.
+    DelayTooLong {
+        /// Largest `c_d` this build supports.
+        max: u8,
+    },
+}
+
+impl core::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            ParamError::Unknown => write!(f, "unknown parameter (known: {})", NamesList),
+            ParamError::NotANumber { name } => write!(f, "parameter {name}: not a number"),
+            ParamError::OutOfRange { name, min, max } => {
+                write!(f, "parameter {name} must lie in {min}..={max}")
+            }
+            ParamError::DelayTooLong { max } => {
+                write!(f, "parameter c_d: this build keeps history for c_d <= {max}")
+            }
+        }
+    }
+}
+
+struct NamesList;
+impl core::fmt::Display for NamesList {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        for (i, n) in Params::NAMES.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            f.write_str(n)?;
+        }
+        Ok(())
+    }
+}
+
+fn parse<T: core::str::FromStr>(name: &'static str, v: &str) -> Result<T, ParamError> {
+    v.parse().map_err(|_| ParamError::NotANumber { name })
+}
+
+fn check_int(name: &'static str, v: i64, min: i64, max: i64) -> Result<(), ParamError> {
+    if (min..=max).contains(&v) {
+        Ok(())
+    } else {
+        Err(ParamError::OutOfRange { name, min, max })
+    }
+}
+
+fn check_f32(name: &'static str, v: f32, min: f32, max: f32) -> Result<(), ParamError> {
+    if v.is_finite() && v >= min && v <= max {
+        Ok(())
+    } else {
+        Err(ParamError::OutOfRange {
+            name,
+            min: min as i64,
+            max: max as i64,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_table_one() {
+        let p = Params::default();
+        assert_eq!((p.w, p.n, p.r_af, p.t_a, p.t_d), (0.25, 3, 36, 100, 5000));
+        assert_eq!((p.d, p.w_s, p.alpha, p.t_s), (4, 4000.0, 0.707, 7000));
+        assert_eq!(p.validate(), Ok(()));
+    }
+
+    #[test]
+    fn set_by_name_checks_name_type_and_range() {
+        let mut p = Params::default();
+        assert_eq!(p.set("t_a", "120"), Ok(()));
+        assert_eq!(p.t_a, 120);
+        assert_eq!(p.set("nope", "1"), Err(ParamError::Unknown));
+        assert_eq!(p.set("n", "x"), Err(ParamError::NotANumber { name: "n" }));
+        assert!(matches!(p.set("n", "0"), Err(ParamError::OutOfRange { name: "n", .. })));
+        assert!(matches!(p.set("w", "NaN"), Err(ParamError::OutOfRange { name: "w", .. })));
+        // n * s may not exceed the correlator reach
+        assert!(matches!(p.set("s", "3"), Err(ParamError::OutOfRange { name: "s", .. })));
+        // a refused value leaves the parameters unchanged
+        assert_eq!(p.n, 3);
+        assert_eq!(p.t_a, 120);
+    }
+}

@@ -1,0 +1,1 @@
+//! Telemetry records (being written).
