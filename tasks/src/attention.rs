@@ -1,1 +1,389 @@
-//! (being written)
+//! Bottom-up multi-attention: attention fields (AFs), Eqs. (3)–(5) and (10) of the paper.
+//!
+//! * Eq. (3), new field: the argmax of the saliency `L̂_t = L̂_ON + L̂_OFF` over the retina
+//!   *outside* every existing field becomes a new field's centroid if it exceeds `T_a`. One new
+//!   field per frame; ties go to the first pixel in raster order.
+//! * Eq. (4), centroid: each field's centroid moves to the saliency-weighted first moments inside
+//!   its square (half side `R_AF`, clipped to the retina), rounded to the nearest pixel; a field
+//!   with no saliency inside keeps its centroid.
+//! * Eq. (5), fusion: a field whose new centroid lies inside another field's square is discarded.
+//!   All squares have the same half side, so containment is mutual: of two fields that come
+//!   within `R_AF` of each other one must go, and it is the younger — the older one keeps its
+//!   response history for Eq. (10). Fields are checked youngest first against those still
+//!   standing, so one field always remains.
+//! * Eq. (10), retirement: a field whose mean LPLC2 over its last `d` frames is below `T_d` is
+//!   retired — once it has lived `d` frames (a newborn field has no history yet) — but the
+//!   strongest field always remains once one exists.
+//!
+//! Capacity: [`MAX_AFS`]. When full, no new field is created until one retires; with Table I's
+//! `R_AF` the geometry never lets more than 3 x 2 fields coexist, so this does not happen.
+
+use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::network::MAX_AFS;
+use crate::params::{Params, MAX_D};
+use crate::retina::Weights;
+
+/// One attention field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Field {
+    /// Identifier, unique over a run (wraps after 65535 fields).
+    pub id: u16,
+    /// Centroid column `x̄_k`.
+    pub x: u8,
+    /// Centroid row `ȳ_k`.
+    pub y: u8,
+    /// Frames this field has lived through (1 in its first frame).
+    pub age: u16,
+    /// LPLC2 responses of the last `MAX_D` frames, newest at `age % MAX_D`.
+    history: [u32; MAX_D as usize],
+}
+
+impl Field {
+    fn new(id: u16, x: usize, y: usize) -> Self {
+        Field {
+            id,
+            x: x as u8,
+            y: y as u8,
+            age: 0,
+            history: [0; MAX_D as usize],
+        }
+    }
+
+    /// The square of half side `r` around the centroid, clipped: `((x0, x1), (y0, y1))` inclusive.
+    pub fn square(&self, r: u8) -> ((usize, usize), (usize, usize)) {
+        let (x, y, r) = (usize::from(self.x), usize::from(self.y), usize::from(r));
+        (
+            (x.saturating_sub(r), (x + r).min(WIDTH - 1)),
+            (y.saturating_sub(r), (y + r).min(HEIGHT - 1)),
+        )
+    }
+
+    /// Whether pixel `(x, y)` lies in the square of half side `r`.
+    #[inline(always)]
+    pub fn contains(&self, x: usize, y: usize, r: u8) -> bool {
+        usize::from(self.x).abs_diff(x) <= usize::from(r)
+            && usize::from(self.y).abs_diff(y) <= usize::from(r)
+    }
+
+    /// Records this frame's LPLC2 response.
+    pub fn push_response(&mut self, r: u32) {
+        self.age = self.age.saturating_add(1);
+        self.history[usize::from(self.age) % usize::from(MAX_D)] = r;
+    }
+
+    /// The newest LPLC2 response.
+    pub fn response(&self) -> u32 {
+        self.history[usize::from(self.age) % usize::from(MAX_D)]
+    }
+
+    /// Mean LPLC2 over the last `d` frames (Eq. 10), over fewer while younger than `d`.
+    pub fn mean_response(&self, d: u8) -> u32 {
+        let k = u16::from(d).min(self.age).max(1);
+        let mut sum = 0u64;
+        for i in 0..k {
+            let slot = usize::from(self.age.wrapping_sub(i)) % usize::from(MAX_D);
+            sum += u64::from(self.history[slot]);
+        }
+        (sum / u64::from(k)) as u32
+    }
+}
+
+/// The set of attention fields, oldest first.
+#[derive(Debug, Clone, Default)]
+pub struct Fields {
+    list: heapless::Vec<Field, MAX_AFS>,
+    next_id: u16,
+}
+
+impl Fields {
+    /// The fields, oldest first.
+    pub fn iter(&self) -> core::slice::Iter<'_, Field> {
+        self.list.iter()
+    }
+
+    /// The fields, mutable, oldest first.
+    pub fn iter_mut(&mut self) -> core::slice::IterMut<'_, Field> {
+        self.list.iter_mut()
+    }
+
+    /// Number of fields.
+    pub fn len(&self) -> usize {
+        self.list.len()
+    }
+
+    /// No field yet.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// Drops every field.
+    pub fn clear(&mut self) {
+        self.list.clear();
+    }
+
+    /// Whether `(x, y)` lies in any field.
+    pub fn covers(&self, x: usize, y: usize, r: u8) -> bool {
+        self.list.iter().any(|f| f.contains(x, y, r))
+    }
+
+    /// Eq. (3): adds a field at the most salient pixel outside all fields if it exceeds `T_a`.
+    /// Returns the new field's id.
+    pub fn spawn(
+        &mut self,
+        on: &[u8; PIXELS],
+        off: &[u8; PIXELS],
+        w: &Weights,
+        p: &Params,
+    ) -> Option<u16> {
+        if self.list.is_full() {
+            return None;
+        }
+        let mut best = (0u32, 0usize, 0usize);
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                let i = y * WIDTH + x;
+                let l = w.saliency(on[i], off[i]);
+                if l > best.0 && !self.covers(x, y, p.r_af) {
+                    best = (l, x, y);
+                }
+            }
+        }
+        let (l, x, y) = best;
+        if l <= p.t_a {
+            return None;
+        }
+        let id = self.next_id;
+        self.next_id = self.next_id.wrapping_add(1);
+        self.list.push(Field::new(id, x, y)).ok()?;
+        Some(id)
+    }
+
+    /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
+    pub fn recentre(&mut self, on: &[u8; PIXELS], off: &[u8; PIXELS], w: &Weights, p: &Params) {
+        for f in self.list.iter_mut() {
+            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            // Weak, wide-spread change (ego-motion over texture) would drag the centroid off the
+            // object: only pixels at or above `c_frac` % of the window's peak weigh in.
+            let mut peak = 0u32;
+            for y in y0..=y1 {
+                for i in y * WIDTH + x0..=y * WIDTH + x1 {
+                    peak = peak.max(w.saliency(on[i], off[i]));
+                }
+            }
+            let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
+            let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let i = y * WIDTH + x;
+                    let l = u64::from(w.saliency(on[i], off[i]));
+                    if l >= floor {
+                        m += l;
+                        mx += l * x as u64;
+                        my += l * y as u64;
+                    }
+                }
+            }
+            // round to nearest; the quotient lies inside the square, so it fits a byte
+            if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
+                f.x = x as u8;
+                f.y = y as u8;
+            }
+        }
+    }
+
+    /// Eq. (5): discards fields whose centroid lies inside another standing field.
+    pub fn fuse(&mut self, r_af: u8) {
+        let mut k = self.list.len();
+        while k > 0 {
+            k -= 1;
+            let f = self.list[k];
+            let inside = self
+                .list
+                .iter()
+                .enumerate()
+                .any(|(j, g)| j != k && g.contains(usize::from(f.x), usize::from(f.y), r_af));
+            if inside {
+                self.list.remove(k);
+            }
+        }
+    }
+
+    /// Eq. (10): retires fields whose mean response over `d` frames is below `T_d`, keeping the
+    /// strongest one (the oldest among equals) when all would go.
+    pub fn retire(&mut self, d: u8, t_d: u32) {
+        let Some(keep) = self
+            .list
+            .iter()
+            .enumerate()
+            .max_by_key(|(i, f)| (f.mean_response(d), core::cmp::Reverse(*i)))
+            .map(|(_, f)| f.id)
+        else {
+            return;
+        };
+        self.list
+            .retain(|f| f.id == keep || f.age < u16::from(d) || f.mean_response(d) >= t_d);
+    }
+
+    /// Adds a field directly (tests and replays of recorded states).
+    pub fn insert(&mut self, x: u8, y: u8) -> Option<u16> {
+        let id = self.next_id;
+        let (x, y) = (
+            usize::from(x).min(WIDTH - 1),
+            usize::from(y).min(HEIGHT - 1),
+        );
+        self.list.push(Field::new(id, x, y)).ok()?;
+        self.next_id = self.next_id.wrapping_add(1);
+        Some(id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> Params {
+        Params::default()
+    }
+
+    fn w() -> Weights {
+        Weights::new(&p())
+    }
+
+    /// OFF map with blobs of value `v` (model saliency 4·v) at the given pixels.
+    fn off_map(points: &[(usize, usize, u8)]) -> [u8; PIXELS] {
+        let mut m = [0u8; PIXELS];
+        for &(x, y, v) in points {
+            m[y * WIDTH + x] = v;
+        }
+        m
+    }
+
+    #[test]
+    fn a_field_is_born_at_the_argmax_above_t_a_only() {
+        let zero = [0u8; PIXELS];
+        let mut f = Fields::default();
+        // saliency 4·25 = 100 is not above T_a = 100
+        assert_eq!(f.spawn(&zero, &off_map(&[(10, 10, 25)]), &w(), &p()), None);
+        let off = off_map(&[(10, 10, 26), (70, 40, 30)]);
+        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(0));
+        let g = f.iter().next().unwrap();
+        assert_eq!((g.x, g.y), (70, 40));
+        // (10,10) lies outside the first square (columns 34..=98): a second field
+        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(1));
+        // nothing salient is left outside both squares
+        assert_eq!(f.spawn(&zero, &off, &w(), &p()), None);
+    }
+
+    #[test]
+    fn a_second_field_needs_a_peak_outside_the_first() {
+        let zero = [0u8; PIXELS];
+        let mut f = Fields::default();
+        let off = off_map(&[(90, 40, 60), (60, 40, 50), (5, 5, 40)]);
+        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(0)); // at (90,40)
+                                                               // (60,40) lies inside 90±36; (5,5) does not
+        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(1));
+        let v: heapless::Vec<(u8, u8), 6> = f.iter().map(|g| (g.x, g.y)).collect();
+        assert_eq!(&v[..], &[(90, 40), (5, 5)]);
+    }
+
+    #[test]
+    fn centroids_move_to_the_first_moments() {
+        let zero = [0u8; PIXELS];
+        let mut f = Fields::default();
+        f.insert(50, 30);
+        // two equal blobs at x = 40 and 61, rows 20 and 30: centroid (50.5 → 51, 25)
+        let off = off_map(&[(40, 20, 50), (61, 30, 50)]);
+        f.recentre(&zero, &off, &w(), &p());
+        let g = f.iter().next().unwrap();
+        assert_eq!((g.x, g.y), (51, 25));
+        // saliencies 240 and 120 → x = (240·40 + 120·61)/360 = 47
+        let off = off_map(&[(40, 20, 60), (61, 20, 30)]);
+        f.recentre(&zero, &off, &w(), &p());
+        assert_eq!(f.iter().next().unwrap().x, 47);
+        // saliency 80 is below half the peak (240): only x = 40 pulls
+        let off = off_map(&[(40, 20, 60), (61, 20, 20)]);
+        f.recentre(&zero, &off, &w(), &p());
+        assert_eq!(f.iter().next().unwrap().x, 40);
+        // nothing inside: the centroid stays
+        f.recentre(&zero, &zero, &w(), &p());
+        assert_eq!(f.iter().next().unwrap().x, 40);
+    }
+
+    #[test]
+    fn a_field_whose_centroid_enters_another_is_fused_away() {
+        let mut f = Fields::default();
+        f.insert(20, 36);
+        f.insert(80, 36);
+        f.fuse(36);
+        assert_eq!(f.len(), 2);
+        // the younger field walks to x = 50, inside the older one's square (20 ± 36)
+        f.iter_mut().nth(1).unwrap().x = 50;
+        f.fuse(36);
+        assert_eq!(f.len(), 1);
+        assert_eq!(f.iter().next().unwrap().x, 20);
+        // the older field walks into the younger one: still the younger one goes
+        let mut f = Fields::default();
+        f.insert(10, 10);
+        f.insert(90, 60);
+        f.insert(10, 60);
+        f.iter_mut().next().unwrap().x = 60;
+        f.iter_mut().next().unwrap().y = 40;
+        f.fuse(36);
+        // (60,40) is within 36 of (90,60) but not of (10,60)
+        assert_eq!(
+            f.iter().map(|g| g.id).collect::<heapless::Vec<u16, 6>>()[..],
+            [0, 2]
+        );
+    }
+
+    #[test]
+    fn weak_fields_retire_after_d_frames_but_one_remains() {
+        let mut f = Fields::default();
+        f.insert(10, 10);
+        f.insert(90, 60);
+        for frame in 0..4 {
+            for (k, g) in f.iter_mut().enumerate() {
+                g.push_response(if k == 0 { 6000 } else { 4000 });
+            }
+            f.retire(4, 5000);
+            // both survive while younger than d = 4 frames
+            assert_eq!(f.len(), if frame < 3 { 2 } else { 1 }, "frame {frame}");
+        }
+        assert_eq!(f.iter().next().unwrap().x, 10);
+        // the survivor's mean falls below T_d: it still remains, being the last one
+        for _ in 0..8 {
+            f.iter_mut().next().unwrap().push_response(0);
+            f.retire(4, 5000);
+        }
+        assert_eq!(f.len(), 1);
+    }
+
+    #[test]
+    fn mean_response_is_over_the_last_d_frames() {
+        let mut g = Field::new(0, 0, 0);
+        for r in [100, 200, 300, 400, 500] {
+            g.push_response(r);
+        }
+        assert_eq!(g.response(), 500);
+        assert_eq!(g.mean_response(4), 350);
+        assert_eq!(g.mean_response(1), 500);
+        assert_eq!(g.mean_response(16), 300, "only 5 frames of history");
+    }
+
+    #[test]
+    fn squares_are_clipped() {
+        let g = Field::new(0, 3, 70);
+        assert_eq!(g.square(36), ((0, 39), (34, 71)));
+    }
+
+    #[test]
+    fn capacity_is_respected() {
+        let mut f = Fields::default();
+        for k in 0..MAX_AFS {
+            assert!(f.insert(k as u8 * 10, 0).is_some());
+        }
+        assert_eq!(f.insert(0, 0), None);
+        let off = off_map(&[(50, 50, 200)]);
+        assert_eq!(f.spawn(&[0; PIXELS], &off, &w(), &p()), None);
+    }
+}

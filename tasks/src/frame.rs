@@ -81,7 +81,10 @@ mod tests {
         assert_eq!(check_dimensions(99, 72), Ok(()));
         assert_eq!(
             check_dimensions(100, 72),
-            Err(FrameError::WrongDimensions { width: 100, height: 72 })
+            Err(FrameError::WrongDimensions {
+                width: 100,
+                height: 72
+            })
         );
     }
 
@@ -89,6 +92,9 @@ mod tests {
     fn slices_of_wrong_size_are_rejected() {
         let buf = [0u8; PIXELS + 1];
         assert_eq!(as_frame(&buf[..PIXELS]).map(|f| f.len()), Ok(PIXELS));
-        assert_eq!(as_frame(&buf), Err(FrameError::WrongSize { got: PIXELS + 1 }));
+        assert_eq!(
+            as_frame(&buf),
+            Err(FrameError::WrongSize { got: PIXELS + 1 })
+        );
     }
 }

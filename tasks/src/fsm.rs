@@ -1,5 +1,28 @@
 //! Escape finite-state machine (paper Sec. II-B, Fig. 2d) and the swarm variant (Sec. IV-D).
-//! (being written)
+//!
+//! [`Fsm::step`] runs once per camera frame (30 fps): it takes the frame's [`Visuomotor`]
+//! signals and the current absolute heading estimate and returns the wheel speeds of a
+//! differential drive. Headings follow the paper: degrees, wrapped to (−180°, 180°], positive =
+//! turned right. The angles of [`Visuomotor`] are relative to the heading of the frame that
+//! produced them, so every set-point is latched as `wrap(heading + θ)` when a state is entered
+//! and then held in absolute terms while the robot turns.
+//!
+//! Escape behaviour (Sec. II-B):
+//!
+//! | state | input | next |
+//! |---|---|---|
+//! | any but ShortTakeoff | short mode (`θ_short` known) | ShortTakeoff, latch `sp¹`, `sp²` (Eqs. 14–15) |
+//! | Wander | alert | LongTakeoff, latch `θ_long` (Eq. 13) |
+//! | LongTakeoff | aligned or timeout | Escape holding the set-point |
+//! | Escape (≥ min. duration) | alert | LongTakeoff, new `θ_long` |
+//! | Escape (≥ min. duration) | `quiet` frames without alert | Wander |
+//! | ShortTakeoff / Retreat | aligned with `sp¹` | ShortTakeoff / Turn |
+//! | ShortTakeoff / Turn | aligned with `sp²` (or timeout) | Escape holding `sp²` |
+//!
+//! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode; Spin → Wander once
+//! `spin_frames` frames have passed without alert. It never escapes.
+
+use crate::visuomotor::{wrap_deg, Visuomotor};
 
 /// Motion state of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,5 +62,570 @@ impl State {
         ]
         .into_iter()
         .find(|st| st.name() == s)
+    }
+}
+
+/// What the robot does about an approaching object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Behaviour {
+    /// Collision avoidance, Sec. II-B: long/short takeoff, then escape.
+    #[default]
+    Escape,
+    /// Sec. IV-D: spin in place on an approaching object instead of escaping.
+    Swarm,
+}
+
+/// The two phases of the short-mode γ path (Sec. II-B).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShortPhase {
+    /// Phase 1: reverse while turning until the heading is `θ¹` (90° off the threat).
+    Retreat,
+    /// Phase 2: forward while turning until the heading is `θ²` (180° opposite the threat).
+    Turn,
+}
+
+/// Motion parameters of the FSM. The paper gives only the wander speed (≈10 cm/s); the rest are
+/// choices for a 4 cm Colias at 30 fps. Units: mm, mm/s, degrees, frames.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FsmParams {
+    /// Wander speed, mm/s. Paper: constant velocity ≈10 cm/s.
+    pub cruise_mm_s: f32,
+    /// Escape speed at `S = 1`, mm/s; the escape runs at `S · max` with `S ∈ [0.5, 1)` (Eq. 11).
+    pub max_escape_mm_s: f32,
+    /// Reverse speed of short phase 1 at `S = 1`, mm/s (also scaled by `S`).
+    pub retreat_mm_s: f32,
+    /// Hard limit on each wheel's speed, mm/s. Turning has priority: forward speed is cut so
+    /// that `|v| + |ω|·track/2` stays below it.
+    pub max_wheel_mm_s: f32,
+    /// Distance between the wheels, mm.
+    pub track_mm: f32,
+    /// Heading P-gain, 1/s: `ω = gain · error`.
+    pub heading_gain: f32,
+    /// Yaw-rate limit of the heading controller, °/s.
+    pub max_yaw_deg_s: f32,
+    /// A set-point counts as reached when `|error| ≤` this, degrees.
+    pub align_tol_deg: f32,
+    /// Escape lasts at least this many frames before a new alert or the quiet count act.
+    pub min_escape_frames: u32,
+    /// Consecutive frames without alert that count as "escaped successfully" → Wander.
+    pub quiet_frames: u32,
+    /// A takeoff (long, or the whole short γ path) gives up turning after this many frames and
+    /// escapes anyway, so that stuck wheels or a bad heading estimate cannot spin it forever.
+    pub takeoff_timeout_frames: u32,
+    /// Swarm: the spin lasts this many frames after the last alert.
+    pub spin_frames: u32,
+    /// Swarm: yaw rate of the spin, °/s (positive = spin right).
+    pub spin_deg_s: f32,
+}
+
+impl Default for FsmParams {
+    fn default() -> Self {
+        FsmParams {
+            cruise_mm_s: 100.0,
+            max_escape_mm_s: 200.0,
+            retreat_mm_s: 150.0,
+            max_wheel_mm_s: 300.0,
+            track_mm: 48.0,
+            heading_gain: 4.0,
+            max_yaw_deg_s: 360.0,
+            align_tol_deg: 10.0,
+            min_escape_frames: 30,
+            quiet_frames: 15,
+            takeoff_timeout_frames: 90,
+            spin_frames: 30,
+            spin_deg_s: 360.0,
+        }
+    }
+}
+
+/// One frame's output of the FSM.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotorCommand {
+    /// State after this frame's transition.
+    pub state: State,
+    /// Phase of the γ path, `Some` only in [`State::ShortTakeoff`].
+    pub short_phase: Option<ShortPhase>,
+    /// Absolute heading the controller steers to, degrees (in Spin: the heading at entry,
+    /// which is not tracked).
+    pub heading_setpoint_deg: f32,
+    /// Left wheel speed, mm/s (positive = forward).
+    pub left_mm_s: f32,
+    /// Right wheel speed, mm/s (positive = forward).
+    pub right_mm_s: f32,
+}
+
+/// `x` limited to `±lim`; NaN `x` or a nonsensical `lim` give 0 / a zero limit, never a panic
+/// (unlike `f32::clamp`).
+fn limit(x: f32, lim: f32) -> f32 {
+    let lim = if lim.is_finite() && lim > 0.0 {
+        lim
+    } else {
+        0.0
+    };
+    if x.is_nan() {
+        0.0
+    } else if x > lim {
+        lim
+    } else if x < -lim {
+        -lim
+    } else {
+        x
+    }
+}
+
+/// Heading error `wrap(set-point − heading)`, degrees: the shortest turn, positive = turn right.
+pub fn heading_error_deg(setpoint_deg: f32, heading_deg: f32) -> f32 {
+    wrap_deg(setpoint_deg - heading_deg)
+}
+
+/// P heading controller: `ω = clamp(gain · error, ±max yaw rate)`, in rad/s, positive = right.
+pub fn yaw_rate_rad_s(error_deg: f32, p: &FsmParams) -> f32 {
+    limit(p.heading_gain * error_deg, p.max_yaw_deg_s).to_radians()
+}
+
+/// Differential-drive mixing: `left = v + ω·track/2`, `right = v − ω·track/2` (ω in rad/s,
+/// positive = right turn), in mm/s. Each wheel stays within `max_wheel_mm_s`; the turn keeps
+/// priority over the forward speed so that heading control survives saturation.
+pub fn mix(v_mm_s: f32, omega_rad_s: f32, p: &FsmParams) -> (f32, f32) {
+    let half_track = if p.track_mm.is_finite() && p.track_mm > 0.0 {
+        p.track_mm / 2.0
+    } else {
+        0.0
+    };
+    let max = limit(p.max_wheel_mm_s, f32::MAX).abs();
+    let turn = limit(omega_rad_s * half_track, max);
+    let v = limit(v_mm_s, max - turn.abs());
+    (v + turn, v - turn)
+}
+
+/// The escape FSM of Sec. II-B (or its swarm variant, Sec. IV-D).
+#[derive(Debug, Clone)]
+pub struct Fsm {
+    params: FsmParams,
+    behaviour: Behaviour,
+    state: State,
+    short_phase: Option<ShortPhase>,
+    /// Set-point of the current state: Wander heading, `θ_long`, `sp¹`, or the escape heading.
+    setpoint: f32,
+    /// `sp²` of the γ path.
+    setpoint2: f32,
+    /// Wander has a heading to hold (false until the first valid frame).
+    latched: bool,
+    /// `S` latched at the trigger, in [0, 1].
+    strength: f32,
+    /// Frames since entering the state (Spin: since the last alert).
+    frames: u32,
+    /// Consecutive frames without alert (Escape).
+    quiet: u32,
+}
+
+impl Fsm {
+    /// A new FSM in Wander; it latches its heading at the first [`Fsm::step`].
+    pub fn new(params: FsmParams, behaviour: Behaviour) -> Self {
+        Fsm {
+            params,
+            behaviour,
+            state: State::Wander,
+            short_phase: None,
+            setpoint: 0.0,
+            setpoint2: 0.0,
+            latched: false,
+            strength: 0.5,
+            frames: 0,
+            quiet: 0,
+        }
+    }
+
+    /// Current state.
+    pub fn state(&self) -> State {
+        self.state
+    }
+
+    /// Current phase of the γ path (`Some` only in ShortTakeoff).
+    pub fn short_phase(&self) -> Option<ShortPhase> {
+        self.short_phase
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &FsmParams {
+        &self.params
+    }
+
+    /// The behaviour.
+    pub fn behaviour(&self) -> Behaviour {
+        self.behaviour
+    }
+
+    /// One camera frame: transition on `vm`, then the wheel speeds that steer from
+    /// `heading_deg` (absolute, wrapped, positive = right) toward the new state's set-point.
+    ///
+    /// A non-finite heading or non-finite `vm` field gives a stopped command and leaves the
+    /// FSM untouched (the frame is skipped): a corrupt sensor must not move the robot.
+    pub fn step(&mut self, vm: &Visuomotor, heading_deg: f32) -> MotorCommand {
+        if !heading_deg.is_finite() || !vm_is_finite(vm) {
+            return self.command(0.0, 0.0);
+        }
+        let h = wrap_deg(heading_deg);
+        if !self.latched {
+            self.enter_wander(h);
+        }
+        match self.behaviour {
+            Behaviour::Escape => self.transition_escape(vm, h),
+            Behaviour::Swarm => self.transition_swarm(vm, h),
+        }
+        self.output(h)
+    }
+
+    fn enter_wander(&mut self, h: f32) {
+        self.state = State::Wander;
+        self.short_phase = None;
+        self.setpoint = h;
+        self.latched = true;
+        self.frames = 0;
+        self.quiet = 0;
+    }
+
+    fn enter_long(&mut self, vm: &Visuomotor, h: f32) {
+        // An alert without a bearing (not produced by `Visuomotor::from_fields`) is taken as a
+        // threat dead ahead: turn around.
+        let theta = vm.theta_long.unwrap_or(180.0);
+        self.state = State::LongTakeoff;
+        self.short_phase = None;
+        self.setpoint = wrap_deg(h + theta);
+        self.strength = limit(vm.strength, 1.0).max(0.0);
+        self.frames = 0;
+        self.quiet = 0;
+    }
+
+    fn enter_escape(&mut self, setpoint: f32) {
+        self.state = State::Escape;
+        self.short_phase = None;
+        self.setpoint = setpoint;
+        self.frames = 0;
+        self.quiet = 0;
+    }
+
+    fn transition_escape(&mut self, vm: &Visuomotor, h: f32) {
+        // Short mode overrides every state (Sec. II-B) but does not re-latch an ongoing γ path:
+        // θ_short is relative to the heading, so re-latching each frame while the robot turns
+        // would move the set-points with it and the path would never end.
+        if vm.short_mode && self.state != State::ShortTakeoff {
+            if let Some([t1, t2]) = vm.theta_short {
+                self.state = State::ShortTakeoff;
+                self.short_phase = Some(ShortPhase::Retreat);
+                self.setpoint = wrap_deg(h + t1);
+                self.setpoint2 = wrap_deg(h + t2);
+                self.strength = limit(vm.strength, 1.0).max(0.0);
+                self.frames = 0;
+                self.quiet = 0;
+                return;
+            }
+        }
+        let p = self.params;
+        let aligned = |sp: f32| heading_error_deg(sp, h).abs() <= p.align_tol_deg;
+        match self.state {
+            // Spin belongs to the swarm behaviour; should it ever be current here, act as Wander.
+            State::Wander | State::Spin => {
+                if vm.alert {
+                    self.enter_long(vm, h);
+                } else if self.state == State::Spin {
+                    self.enter_wander(h);
+                }
+            }
+            State::LongTakeoff => {
+                self.frames = self.frames.saturating_add(1);
+                if aligned(self.setpoint) || self.frames >= p.takeoff_timeout_frames {
+                    self.enter_escape(self.setpoint);
+                }
+            }
+            State::Escape => {
+                self.frames = self.frames.saturating_add(1);
+                self.quiet = if vm.alert {
+                    0
+                } else {
+                    self.quiet.saturating_add(1)
+                };
+                if self.frames >= p.min_escape_frames {
+                    if vm.alert {
+                        self.enter_long(vm, h);
+                    } else if self.quiet >= p.quiet_frames {
+                        self.enter_wander(h);
+                    }
+                }
+            }
+            State::ShortTakeoff => {
+                self.frames = self.frames.saturating_add(1);
+                if self.short_phase == Some(ShortPhase::Retreat) && aligned(self.setpoint) {
+                    self.short_phase = Some(ShortPhase::Turn);
+                }
+                let done = self.short_phase == Some(ShortPhase::Turn) && aligned(self.setpoint2);
+                // The timeout covers the whole γ path: either phase may be stuck.
+                if done || self.frames >= p.takeoff_timeout_frames {
+                    self.enter_escape(self.setpoint2);
+                }
+            }
+        }
+    }
+
+    fn transition_swarm(&mut self, vm: &Visuomotor, h: f32) {
+        let threat = vm.alert || vm.short_mode;
+        match self.state {
+            State::Spin => {
+                // The spin lasts `spin_frames` after the last alert.
+                self.frames = if threat {
+                    0
+                } else {
+                    self.frames.saturating_add(1)
+                };
+                if self.frames >= self.params.spin_frames {
+                    self.enter_wander(h);
+                }
+            }
+            // Only Wander and Spin occur in the swarm behaviour; treat anything else as Wander.
+            _ => {
+                if threat {
+                    self.state = State::Spin;
+                    self.short_phase = None;
+                    self.setpoint = h;
+                    self.frames = 0;
+                    self.quiet = 0;
+                } else if self.state != State::Wander {
+                    self.enter_wander(h);
+                }
+            }
+        }
+    }
+
+    /// Wheel speeds of the current state.
+    fn output(&self, h: f32) -> MotorCommand {
+        let p = &self.params;
+        let s = self.strength;
+        let (v, omega) = match self.state {
+            State::Wander => (p.cruise_mm_s, self.steer(self.setpoint, h)),
+            State::LongTakeoff => (0.0, self.steer(self.setpoint, h)),
+            State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
+            State::ShortTakeoff => match self.short_phase {
+                Some(ShortPhase::Turn) => (s * p.max_escape_mm_s, self.steer(self.setpoint2, h)),
+                _ => (-s * p.retreat_mm_s, self.steer(self.setpoint, h)),
+            },
+            State::Spin => (0.0, p.spin_deg_s.to_radians()),
+        };
+        let (l, r) = mix(v, omega, p);
+        self.command(l, r)
+    }
+
+    fn steer(&self, setpoint: f32, h: f32) -> f32 {
+        yaw_rate_rad_s(heading_error_deg(setpoint, h), &self.params)
+    }
+
+    fn command(&self, left: f32, right: f32) -> MotorCommand {
+        let finite = left.is_finite() && right.is_finite();
+        MotorCommand {
+            state: self.state,
+            short_phase: self.short_phase,
+            heading_setpoint_deg: match (self.state, self.short_phase) {
+                (State::ShortTakeoff, Some(ShortPhase::Turn)) => self.setpoint2,
+                _ => self.setpoint,
+            },
+            left_mm_s: if finite { left } else { 0.0 },
+            right_mm_s: if finite { right } else { 0.0 },
+        }
+    }
+}
+
+fn vm_is_finite(vm: &Visuomotor) -> bool {
+    vm.strength.is_finite()
+        && vm.threat_x.is_none_or(f32::is_finite)
+        && vm.theta_long.is_none_or(f32::is_finite)
+        && vm
+            .theta_short
+            .is_none_or(|t| t.iter().all(|a| a.is_finite()))
+}
+
+/// A source of the absolute heading for [`Fsm::step`]: odometry on the host, a gyro or wheel
+/// encoders on the robot.
+pub trait HeadingEstimator {
+    /// Advances the estimate by one period of `dt_s` seconds during which the wheels were
+    /// commanded to `left_mm_s`, `right_mm_s`; returns the new heading (degrees, wrapped).
+    fn update(&mut self, left_mm_s: f32, right_mm_s: f32, dt_s: f32) -> f32;
+    /// Current heading, degrees, wrapped to (−180°, 180°], positive = turned right.
+    fn heading_deg(&self) -> f32;
+}
+
+/// Dead reckoning of the heading from the commanded wheel speeds: `dθ = (left − right)/track ·
+/// dt` (radians). Good enough for the simulator and as a fallback; it cannot see wheel slip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Odometry {
+    track_mm: f32,
+    heading_deg: f32,
+}
+
+impl Odometry {
+    /// Starts at `heading_deg` (wrapped) with the wheel track `track_mm`.
+    pub fn new(track_mm: f32, heading_deg: f32) -> Self {
+        Odometry {
+            track_mm,
+            heading_deg: wrap_deg(heading_deg),
+        }
+    }
+}
+
+impl HeadingEstimator for Odometry {
+    /// Non-finite speeds, a non-positive `dt_s` or track leave the heading unchanged.
+    fn update(&mut self, left_mm_s: f32, right_mm_s: f32, dt_s: f32) -> f32 {
+        let d_rad = (left_mm_s - right_mm_s) / self.track_mm * dt_s;
+        if self.track_mm > 0.0 && dt_s > 0.0 && d_rad.is_finite() {
+            self.heading_deg = wrap_deg(self.heading_deg + d_rad.to_degrees());
+        }
+        self.heading_deg
+    }
+
+    fn heading_deg(&self) -> f32 {
+        self.heading_deg
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f32, b: f32, tol: f32) -> bool {
+        (a - b).abs() <= tol
+    }
+
+    fn quiet() -> Visuomotor {
+        Visuomotor {
+            strength: 0.5,
+            ..Visuomotor::default()
+        }
+    }
+
+    #[test]
+    fn mixing_follows_the_right_positive_convention() {
+        let p = FsmParams::default();
+        // straight
+        assert_eq!(mix(100.0, 0.0, &p), (100.0, 100.0));
+        // 1 rad/s right in place: left wheel forward by track/2
+        let (l, r) = mix(0.0, 1.0, &p);
+        assert!(close(l, 24.0, 1e-4) && close(r, -24.0, 1e-4));
+        // reversing while turning left
+        let (l, r) = mix(-50.0, -1.0, &p);
+        assert!(close(l, -74.0, 1e-4) && close(r, -26.0, 1e-4));
+    }
+
+    #[test]
+    fn mixing_saturates_with_turn_priority() {
+        let p = FsmParams {
+            max_wheel_mm_s: 100.0,
+            ..FsmParams::default()
+        };
+        // 2 rad/s · 24 mm = 48 mm/s of turn leaves 52 mm/s of forward speed
+        let (l, r) = mix(500.0, 2.0, &p);
+        assert!(close(l, 100.0, 1e-3) && close(r, 4.0, 1e-3), "{l} {r}");
+        // the turn alone is limited too
+        let (l, r) = mix(0.0, 100.0, &p);
+        assert!(close(l, 100.0, 1e-3) && close(r, -100.0, 1e-3));
+        // garbage gives zero, not a panic
+        assert_eq!(mix(f32::NAN, f32::NAN, &p), (0.0, 0.0));
+        let bad = FsmParams {
+            max_wheel_mm_s: f32::NAN,
+            track_mm: -1.0,
+            ..p
+        };
+        assert_eq!(mix(100.0, 1.0, &bad), (0.0, 0.0));
+    }
+
+    #[test]
+    fn yaw_rate_is_a_clamped_p_controller() {
+        let p = FsmParams::default();
+        assert!(close(yaw_rate_rad_s(10.0, &p), 40f32.to_radians(), 1e-5));
+        assert!(close(
+            yaw_rate_rad_s(-170.0, &p),
+            -(360f32.to_radians()),
+            1e-5
+        ));
+        assert_eq!(yaw_rate_rad_s(f32::NAN, &p), 0.0);
+    }
+
+    #[test]
+    fn heading_error_takes_the_short_way_across_180() {
+        assert!(close(heading_error_deg(170.0, -170.0), -20.0, 1e-4));
+        assert!(close(heading_error_deg(-170.0, 170.0), 20.0, 1e-4));
+        assert!(close(heading_error_deg(180.0, 0.0), 180.0, 1e-4));
+        assert!(close(heading_error_deg(-90.0, 90.0), 180.0, 1e-4));
+    }
+
+    #[test]
+    fn odometry_integrates_and_wraps() {
+        let mut o = Odometry::new(48.0, 0.0);
+        // left − right = 48 mm/s over track 48 mm: 1 rad/s to the right
+        for _ in 0..30 {
+            o.update(24.0, -24.0, 1.0 / 30.0);
+        }
+        assert!(
+            close(o.heading_deg(), 57.295_78, 1e-2),
+            "{}",
+            o.heading_deg()
+        );
+        // past 180° it wraps to negative
+        let mut o = Odometry::new(48.0, 170.0);
+        let h = o.update(48.0, 0.0, 20f32.to_radians());
+        assert!(close(h, -170.0, 1e-3), "{h}");
+        // straight motion does not turn; bad input is ignored
+        assert_eq!(o.update(100.0, 100.0, 0.1), h);
+        assert_eq!(o.update(f32::NAN, 0.0, 0.1), h);
+        assert_eq!(o.update(10.0, 0.0, -0.1), h);
+        assert_eq!(Odometry::new(0.0, 5.0).update(10.0, 0.0, 0.1), 5.0);
+        assert_eq!(Odometry::new(48.0, 540.0).heading_deg(), 180.0);
+    }
+
+    #[test]
+    fn wander_holds_the_heading_latched_at_the_first_frame() {
+        let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+        let c = f.step(&quiet(), 30.0);
+        assert_eq!((c.state, c.heading_setpoint_deg), (State::Wander, 30.0));
+        assert_eq!((c.left_mm_s, c.right_mm_s), (100.0, 100.0));
+        // drifted right: steer left
+        let c = f.step(&quiet(), 35.0);
+        assert!(c.left_mm_s < c.right_mm_s);
+        assert_eq!(c.heading_setpoint_deg, 30.0);
+    }
+
+    #[test]
+    fn set_points_are_wrapped_absolute_headings() {
+        let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+        let vm = Visuomotor {
+            alert: true,
+            strength: 0.6,
+            theta_long: Some(145.0),
+            ..Visuomotor::default()
+        };
+        let c = f.step(&vm, 100.0);
+        assert_eq!(c.state, State::LongTakeoff);
+        assert!(close(c.heading_setpoint_deg, -115.0, 1e-4));
+        // in place: wheels opposite
+        assert!(close(c.left_mm_s, -c.right_mm_s, 1e-4) && c.left_mm_s > 0.0);
+    }
+
+    #[test]
+    fn non_finite_input_stops_without_transition() {
+        let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        let alert = Visuomotor {
+            alert: true,
+            theta_long: Some(f32::NAN),
+            strength: 0.7,
+            ..Visuomotor::default()
+        };
+        let c = f.step(&alert, 0.0);
+        assert_eq!(
+            (c.state, c.left_mm_s, c.right_mm_s),
+            (State::Wander, 0.0, 0.0)
+        );
+        let c = f.step(&quiet(), f32::INFINITY);
+        assert_eq!(
+            (c.state, c.left_mm_s, c.right_mm_s),
+            (State::Wander, 0.0, 0.0)
+        );
     }
 }

@@ -1,1 +1,272 @@
-//! (being written)
+//! T4 (ON) and T5 (OFF) Hassenstein–Reichardt correlators and local motion: Eqs. (6)–(7).
+//!
+//! For a preferred direction `v` with unit step `(dx, dy)`, pixel `p` and its `c`-th connected
+//! neuron `q = p + c·s·(dx, dy)`:
+//!
+//! `T(p,t) = Σ_{c=1..n} [ L(q,t)·L(p,t−C_d) − L(q,t−C_d)·L(p,t) ]`
+//!
+//! The paper prints the second term as `L(p,t)·L(q,t)`, which has no delay and would make the
+//! detector respond to flicker; this is the standard opponent HRC it cites (`docs/model.md`).
+//! A change that travels from `p` to `q` makes the first term win: `T > 0` is motion along `v`.
+//! Neurons that fall outside the retina contribute 0.
+//!
+//! Local motion, Eq. (7): `LM_v = T4_v + T5_v` in model units (`L̂_ON = gain·w·on`,
+//! `L̂_OFF = gain·off`), scaled by `2^−lm_shift`, then half-wave rectified: T4/T5 synapses only
+//! excite (`docs/model.md` explains why rectification is per pixel).
+
+use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::params::Params;
+
+/// The four cardinal directions of the lobula plate layers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Rightward (+x).
+    Right,
+    /// Leftward (−x).
+    Left,
+    /// Downward (+y, rows grow downwards).
+    Down,
+    /// Upward (−y).
+    Up,
+}
+
+impl Direction {
+    /// All four, in the paper's order r, l, d, u.
+    pub const ALL: [Direction; 4] = [
+        Direction::Right,
+        Direction::Left,
+        Direction::Down,
+        Direction::Up,
+    ];
+
+    /// Unit step `(dx, dy)` of the direction.
+    pub const fn step(self) -> (isize, isize) {
+        match self {
+            Direction::Right => (1, 0),
+            Direction::Left => (-1, 0),
+            Direction::Down => (0, 1),
+            Direction::Up => (0, -1),
+        }
+    }
+
+    /// One-letter name used in pictures and logs.
+    pub const fn letter(self) -> char {
+        match self {
+            Direction::Right => 'r',
+            Direction::Left => 'l',
+            Direction::Down => 'd',
+            Direction::Up => 'u',
+        }
+    }
+}
+
+/// The ON and OFF maps at `t` and `t − C_d` that the correlators read.
+#[derive(Clone, Copy)]
+pub struct Maps<'a> {
+    /// `on` at t.
+    pub on: &'a [u8; PIXELS],
+    /// `off` at t.
+    pub off: &'a [u8; PIXELS],
+    /// `on` at t − C_d.
+    pub on_d: &'a [u8; PIXELS],
+    /// `off` at t − C_d.
+    pub off_d: &'a [u8; PIXELS],
+}
+
+/// Fixed-point factors of Eq. (7), set once per parameter set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LmScale {
+    /// `(gain·w)²` in Q8: weight of T4 (built from unweighted stored bytes).
+    pub t4_q8: i64,
+    /// `gain²` in Q8: weight of T5.
+    pub t5_q8: i64,
+    /// `8 + lm_shift`.
+    pub shift: u32,
+    /// Connected neurons `n`.
+    pub n: usize,
+    /// Spacing `s` in pixels.
+    pub s: usize,
+}
+
+impl LmScale {
+    /// Factors for `p` (assumed validated).
+    pub fn new(p: &Params) -> Self {
+        let gw = f32::from(p.gain) * p.w;
+        LmScale {
+            t4_q8: (gw * gw * 256.0 + 0.5) as i64,
+            t5_q8: i64::from(p.gain) * i64::from(p.gain) * 256,
+            shift: 8 + u32::from(p.lm_shift),
+            n: usize::from(p.n),
+            s: usize::from(p.s),
+        }
+    }
+}
+
+/// Eq. (6) for one channel: the opponent correlator sum at pixel `(x, y)` along `dir`, on the
+/// stored byte maps (grey-level² units).
+#[inline]
+pub fn correlate(
+    now: &[u8; PIXELS],
+    delayed: &[u8; PIXELS],
+    x: usize,
+    y: usize,
+    dir: Direction,
+    n: usize,
+    s: usize,
+) -> i32 {
+    let (dx, dy) = dir.step();
+    let p = y * WIDTH + x;
+    let (a_now, a_del) = (i32::from(now[p]), i32::from(delayed[p]));
+    let mut t = 0i32;
+    for c in 1..=n {
+        let reach = (c * s) as isize;
+        let qx = x as isize + dx * reach;
+        let qy = y as isize + dy * reach;
+        if qx < 0 || qy < 0 || qx >= WIDTH as isize || qy >= HEIGHT as isize {
+            break; // farther neurons are outside too
+        }
+        let q = qy as usize * WIDTH + qx as usize;
+        t += i32::from(now[q]) * a_del - i32::from(delayed[q]) * a_now;
+    }
+    t
+}
+
+/// Eq. (7), rectified: `max(0, T4 + T5)` at `(x, y)` along `dir`, in model units.
+#[inline]
+pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) -> u32 {
+    let t4 = correlate(m.on, m.on_d, x, y, dir, sc.n, sc.s);
+    let t5 = correlate(m.off, m.off_d, x, y, dir, sc.n, sc.s);
+    let lm = (sc.t4_q8 * i64::from(t4) + sc.t5_q8 * i64::from(t5)) >> sc.shift;
+    lm.clamp(0, i64::from(u32::MAX)) as u32
+}
+
+/// The rectified local-motion map of one direction over the whole retina (for pictures).
+pub fn motion_map(m: &Maps, sc: &LmScale, dir: Direction, out: &mut [u32; PIXELS]) {
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            out[y * WIDTH + x] = local_motion(m, sc, x, y, dir);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bright vertical bar at column `x0` (rows 30..40) and its position one frame earlier.
+    fn bar(x0: usize, y0: usize, vertical: bool) -> [u8; PIXELS] {
+        let mut m = [0u8; PIXELS];
+        for k in 0..10 {
+            let (x, y) = if vertical { (x0, y0 + k) } else { (x0 + k, y0) };
+            m[y * WIDTH + x] = 100;
+        }
+        m
+    }
+
+    fn response(dir: Direction, from: (usize, usize), to: (usize, usize), vertical: bool) -> i32 {
+        // the edge was at `from` at t−1 and is at `to` now; sum the correlator over the retina
+        let now = bar(to.0, to.1, vertical);
+        let del = bar(from.0, from.1, vertical);
+        let mut sum = 0;
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                sum += correlate(&now, &del, x, y, dir, 3, 1);
+            }
+        }
+        sum
+    }
+
+    #[test]
+    fn an_edge_moving_right_excites_right_and_inhibits_left() {
+        let r = response(Direction::Right, (40, 30), (41, 30), true);
+        let l = response(Direction::Left, (40, 30), (41, 30), true);
+        assert!(r > 0 && l < 0, "r {r} l {l}");
+        // by hand: 10 rows x one neighbour (c = 1): 100·100 each
+        assert_eq!(r, 10 * 100 * 100);
+        assert_eq!(l, -r);
+        assert_eq!(response(Direction::Up, (40, 30), (41, 30), true), 0);
+    }
+
+    #[test]
+    fn each_direction_is_selective() {
+        // (dir, from, to, bar orientation) for a one-pixel step in each direction
+        let cases = [
+            (Direction::Right, (40, 30), (41, 30), true),
+            (Direction::Left, (41, 30), (40, 30), true),
+            (Direction::Down, (40, 30), (40, 31), false),
+            (Direction::Up, (40, 31), (40, 30), false),
+        ];
+        for (pref, from, to, vertical) in cases {
+            for d in Direction::ALL {
+                let r = response(d, from, to, vertical);
+                let (pdx, pdy) = pref.step();
+                let (dx, dy) = d.step();
+                match pdx * dx + pdy * dy {
+                    1 => assert!(r > 0, "{pref:?} seen by {d:?}: {r}"),
+                    -1 => assert!(r < 0, "{pref:?} seen by {d:?}: {r}"),
+                    _ => assert_eq!(r, 0, "{pref:?} seen by {d:?}"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_steady_or_flickering_field_gives_no_motion() {
+        let flat_now = [80u8; PIXELS];
+        let flat_del = [20u8; PIXELS];
+        for d in Direction::ALL {
+            for (x, y) in [(0, 0), (50, 30), (98, 71)] {
+                assert_eq!(correlate(&flat_now, &flat_del, x, y, d, 3, 1), 0);
+            }
+        }
+    }
+
+    #[test]
+    fn neurons_outside_the_retina_are_silent() {
+        let now = [50u8; PIXELS];
+        let del = [0u8; PIXELS];
+        // at the right border the rightward correlator has no neuron: 0
+        assert_eq!(correlate(&now, &del, 98, 10, Direction::Right, 3, 1), 0);
+        // one column in, one neuron: 50·0 − 0·50 = 0 too, but with a delayed signal at p:
+        let mut del2 = [0u8; PIXELS];
+        del2[10 * WIDTH + 97] = 10;
+        assert_eq!(
+            correlate(&now, &del2, 97, 10, Direction::Right, 3, 1),
+            50 * 10
+        );
+    }
+
+    #[test]
+    fn local_motion_scales_and_rectifies() {
+        let p = Params::default();
+        let sc = LmScale::new(&p);
+        assert_eq!(
+            (sc.t4_q8, sc.t5_q8, sc.shift),
+            (256, 4096, 8 + u32::from(p.lm_shift))
+        );
+        let now = bar(41, 30, true);
+        let del = bar(40, 30, true);
+        let zero = [0u8; PIXELS];
+        // ON only: T4 = 100·100 at (40,y) for c = 1; model units: (gain·w)² = 1
+        let m = Maps {
+            on: &now,
+            off: &zero,
+            on_d: &del,
+            off_d: &zero,
+        };
+        let expect = (100 * 100) >> p.lm_shift;
+        assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Right), expect);
+        assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Left), 0);
+        // OFF only: gain² = 16 times more
+        let m = Maps {
+            on: &zero,
+            off: &now,
+            on_d: &zero,
+            off_d: &del,
+        };
+        assert_eq!(
+            local_motion(&m, &sc, 40, 33, Direction::Right),
+            (16 * 100 * 100) >> p.lm_shift
+        );
+    }
+}

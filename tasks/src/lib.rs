@@ -35,5 +35,5 @@ pub mod telemetry;
 pub mod visuomotor;
 
 pub use frame::{Frame, FrameError, HEIGHT, PIXELS, WIDTH};
-pub use network::MAX_AFS;
+pub use network::{AfReport, Network, Perception, MAX_AFS};
 pub use params::{ParamError, Params};

@@ -31,8 +31,10 @@ pub struct Params {
     pub alpha: f32,
     /// `T_s`: global threat `ΣLPLC2` above which the short-mode escape starts. Table I: 7000.
     pub t_s: u32,
-    /// `C_d`: correlator delay in frames, Eq. (6). Unstated in the paper; 1 (adjacent frames).
-    pub c_d: u8,
+    /// `C_d`: correlator delay in frames, Eq. (6). Unstated in the paper. Realised as the
+    /// classic HRC delay filter, a first-order low-pass with mean delay `C_d` frames (exactly
+    /// the previous frame when `C_d = 1`), so any delay costs one map per channel.
+    pub c_d: f32,
     /// `s`: spacing of the connected neurons in pixels, Eq. (6). Unstated; 1.
     pub s: u8,
     /// Retina gain: luminance enters the model as `gain * Y8`. Unstated; 4, a 10-bit scale,
@@ -41,9 +43,19 @@ pub struct Params {
     /// Local-motion scale: correlator products are divided by `2^lm_shift` so that LPLC2
     /// responses live on the scale of `T_d`, `T_s` and `w_s`. Unstated; see `docs/model.md`.
     pub lm_shift: u8,
+    /// Half side of the window in which a centroid is re-estimated, Eq. (4); at most `R_AF`.
+    /// The paper uses the whole field; its authors' simulator uses a window of half `R_AF`.
+    pub r_c: u8,
+    /// Relative saliency floor of the centroid moments, Eq. (4), in percent of the window's peak:
+    /// weaker pixels do not pull the centroid. Unstated; the paper's firmware thresholds its OFF
+    /// map before the moments in the same spirit (`docs/model.md`).
+    pub c_frac: u8,
     /// Noise floor of a quadrant, Eq. (9): a quadrant counts as excited only above it.
     /// Unstated in the paper (its firmware uses a similar `T_cardinal`); see `docs/model.md`.
     pub q_floor: u32,
+    /// Balance of the quadrants, Eq. (9), in percent: each must reach this share of the
+    /// strongest one to count as excited. Unstated; see `docs/model.md`.
+    pub q_balance: u8,
 }
 
 impl Params {
@@ -58,17 +70,35 @@ impl Params {
         w_s: 4000.0,
         alpha: 0.707,
         t_s: 7000,
-        c_d: 1,
+        c_d: 2.0,
         s: 1,
         gain: 4,
         lm_shift: 8,
+        r_c: 36,
+        c_frac: 50,
         q_floor: 300,
+        q_balance: 15,
     };
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 14] = [
-        "w", "n", "r_af", "t_a", "t_d", "d", "w_s", "alpha", "t_s", "c_d", "s", "gain", "lm_shift",
+    pub const NAMES: [&'static str; 17] = [
+        "w",
+        "n",
+        "r_af",
+        "t_a",
+        "t_d",
+        "d",
+        "w_s",
+        "alpha",
+        "t_s",
+        "c_d",
+        "s",
+        "gain",
+        "lm_shift",
+        "r_c",
+        "c_frac",
         "q_floor",
+        "q_balance",
     ];
 
     /// Checks every value is in the range the model can compute with (no panic, no overflow).
@@ -76,10 +106,13 @@ impl Params {
         check_f32("w", self.w, 0.0, 4.0)?;
         check_int("n", self.n.into(), 1, MAX_N.into())?;
         check_int("r_af", self.r_af.into(), 1, 99)?;
+        check_int("r_c", self.r_c.into(), 1, 99)?;
+        check_int("c_frac", self.c_frac.into(), 0, 100)?;
+        check_int("q_balance", self.q_balance.into(), 0, 100)?;
         check_int("d", self.d.into(), 1, MAX_D.into())?;
         check_f32("w_s", self.w_s, 1e-3, 1e9)?;
         check_f32("alpha", self.alpha, -10.0, 10.0)?;
-        check_int("c_d", self.c_d.into(), 1, 255)?;
+        check_f32("c_d", self.c_d, 1.0, 16.0)?;
         check_int("s", self.s.into(), 1, MAX_REACH.into())?;
         if u32::from(self.n) * u32::from(self.s) > u32::from(MAX_REACH) {
             return Err(ParamError::OutOfRange {
@@ -115,8 +148,11 @@ impl Params {
             "s" => p.s = parse(name, v)?,
             "gain" => p.gain = parse(name, v)?,
             "lm_shift" => p.lm_shift = parse(name, v)?,
+            "r_c" => p.r_c = parse(name, v)?,
+            "c_frac" => p.c_frac = parse(name, v)?,
+            "q_floor" => p.q_floor = parse(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.q_floor = parse(name, v)?,
+            _ => p.q_balance = parse(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -149,11 +185,6 @@ pub enum ParamError {
         /// Largest allowed value.
         max: i64,
     },
-    /// The correlator delay `c_d` needs more frames of history than this build keeps.
-    DelayTooLong {
-        /// Largest `c_d` this build supports.
-        max: u8,
-    },
 }
 
 impl core::fmt::Display for ParamError {
@@ -163,9 +194,6 @@ impl core::fmt::Display for ParamError {
             ParamError::NotANumber { name } => write!(f, "parameter {name}: not a number"),
             ParamError::OutOfRange { name, min, max } => {
                 write!(f, "parameter {name} must lie in {min}..={max}")
-            }
-            ParamError::DelayTooLong { max } => {
-                write!(f, "parameter c_d: this build keeps history for c_d <= {max}")
             }
         }
     }
@@ -227,10 +255,19 @@ mod tests {
         assert_eq!(p.t_a, 120);
         assert_eq!(p.set("nope", "1"), Err(ParamError::Unknown));
         assert_eq!(p.set("n", "x"), Err(ParamError::NotANumber { name: "n" }));
-        assert!(matches!(p.set("n", "0"), Err(ParamError::OutOfRange { name: "n", .. })));
-        assert!(matches!(p.set("w", "NaN"), Err(ParamError::OutOfRange { name: "w", .. })));
+        assert!(matches!(
+            p.set("n", "0"),
+            Err(ParamError::OutOfRange { name: "n", .. })
+        ));
+        assert!(matches!(
+            p.set("w", "NaN"),
+            Err(ParamError::OutOfRange { name: "w", .. })
+        ));
         // n * s may not exceed the correlator reach
-        assert!(matches!(p.set("s", "3"), Err(ParamError::OutOfRange { name: "s", .. })));
+        assert!(matches!(
+            p.set("s", "3"),
+            Err(ParamError::OutOfRange { name: "s", .. })
+        ));
         // a refused value leaves the parameters unchanged
         assert_eq!(p.n, 3);
         assert_eq!(p.t_a, 120);

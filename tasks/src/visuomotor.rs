@@ -152,7 +152,10 @@ mod tests {
         assert!(close(v.threat_x.unwrap(), 65.0));
         assert!(v.alert && !v.short_mode);
         let none = Visuomotor::from_fields([(10u8, 0u32)].iter().copied(), &p);
-        assert_eq!((none.alert, none.threat_x, none.theta_long), (false, None, None));
+        assert_eq!(
+            (none.alert, none.threat_x, none.theta_long),
+            (false, None, None)
+        );
         let big = Visuomotor::from_fields([(10u8, 7001u32)].iter().copied(), &p);
         assert!(big.short_mode);
     }
