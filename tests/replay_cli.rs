@@ -1,1 +1,144 @@
+//! `alvs replay` end to end: one JSON object per frame, pictures, and one clear error line with
+//! a non-zero exit for bad input.
 
+use std::path::PathBuf;
+use std::process::Command;
+
+use alvs_host::clip::to_pgm;
+use alvs_host::scenes::demo_scenes;
+
+fn alvs() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_alvs"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("alvs-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn replay_prints_one_json_object_per_frame_and_draws() {
+    let d = tmp("json");
+    let scene = &demo_scenes()[0];
+    let frames = scene.frames();
+    let clip = d.join("approach.y8");
+    std::fs::write(&clip, frames.concat()).unwrap();
+    let out = alvs()
+        .arg("replay")
+        .arg(&clip)
+        .arg("--png")
+        .arg(d.join("png"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), frames.len());
+    for (i, v) in lines.iter().enumerate() {
+        assert_eq!(v["frame"], i as u64);
+        for key in [
+            "afs",
+            "lplc2_sum",
+            "strength",
+            "threat_x",
+            "alert",
+            "short_mode",
+            "state",
+        ] {
+            assert!(v.get(key).is_some(), "frame {i} lacks {key}: {v}");
+        }
+        let state = v["state"].as_str().unwrap();
+        assert!(
+            ["wander", "long_takeoff", "escape", "short_takeoff"].contains(&state),
+            "{state}"
+        );
+    }
+    assert_eq!(lines[0]["alert"], false, "the first frame primes");
+    assert!(
+        lines.iter().any(|v| v["alert"] == true),
+        "an approaching square alerts"
+    );
+    assert!(
+        lines.iter().any(|v| v["state"] != "wander"),
+        "and the FSM leaves wander"
+    );
+    let pngs: Vec<_> = std::fs::read_dir(d.join("png"))
+        .unwrap()
+        .flatten()
+        .collect();
+    assert!(pngs
+        .iter()
+        .any(|e| e.file_name().to_string_lossy().ends_with("_trace.png")));
+    assert!(pngs
+        .iter()
+        .any(|e| e.file_name().to_string_lossy().contains("_layers_")));
+}
+
+#[test]
+fn a_directory_of_pgm_frames_gives_the_same_output() {
+    let d = tmp("pgm");
+    let frames = demo_scenes()[1].frames();
+    std::fs::write(d.join("clip.y8"), frames.concat()).unwrap();
+    let pgm = d.join("frames");
+    std::fs::create_dir_all(&pgm).unwrap();
+    for (i, f) in frames.iter().enumerate() {
+        std::fs::write(pgm.join(format!("f{i:04}.pgm")), to_pgm(f)).unwrap();
+    }
+    let a = alvs()
+        .arg("replay")
+        .arg(d.join("clip.y8"))
+        .output()
+        .unwrap();
+    let b = alvs().arg("replay").arg(&pgm).output().unwrap();
+    assert!(a.status.success() && b.status.success());
+    assert_eq!(a.stdout, b.stdout);
+}
+
+#[test]
+fn bad_input_is_one_clear_line_and_a_failure() {
+    let d = tmp("bad");
+    std::fs::write(d.join("short.y8"), [0u8; 7000]).unwrap();
+    std::fs::write(d.join("bad.pgm"), b"P6\n99 72\n255\n").unwrap();
+    let ok = d.join("ok.y8");
+    std::fs::write(&ok, vec![0u8; 7128 * 2]).unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![d.join("missing.y8").display().to_string()],
+            "no such file",
+        ),
+        (
+            vec![d.join("short.y8").display().to_string()],
+            "not a multiple",
+        ),
+        (vec![d.display().to_string()], "P5"),
+        (
+            vec![ok.display().to_string(), "--width".into(), "160".into()],
+            "99x72",
+        ),
+        (
+            vec![ok.display().to_string(), "--param".into(), "bogus=1".into()],
+            "unknown parameter",
+        ),
+        (
+            vec![ok.display().to_string(), "--param".into(), "t_a".into()],
+            "NAME=VALUE",
+        ),
+    ];
+    for (args, expect) in cases {
+        let out = alvs().arg("replay").args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -1,1 +1,172 @@
+//! The shared looming clips against `manifest.csv`: alert on every looming clip, during
+//! expansion; none on receding, translating or grating; threat side right/left/left/right on
+//! the four-quadrant clips; several attention fields on the multi clips. Prints a table.
 
+use std::path::{Path, PathBuf};
+
+use alvs_host::clip;
+use alvs_host::replay::{FrameJson, Pipeline};
+use alvs_tasks::fsm::Behaviour;
+use alvs_tasks::Params;
+
+fn stimuli_dir() -> Option<PathBuf> {
+    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/stimuli");
+    d.join("manifest.csv").exists().then_some(d)
+}
+
+struct Run {
+    name: String,
+    category: String,
+    looming: bool,
+    recs: Vec<FrameJson>,
+    max_afs: usize,
+}
+
+fn run_all() -> Option<Vec<Run>> {
+    let Some(dir) = stimuli_dir() else {
+        eprintln!("SKIPPED: ../shared/stimuli not found next to the repository; the clip tests did not run");
+        return None;
+    };
+    let manifest = std::fs::read_to_string(dir.join("manifest.csv")).expect("manifest");
+    let mut runs = Vec::new();
+    for line in manifest.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let cols: Vec<&str> = line.splitn(6, ',').collect();
+        let (name, category, looming) = (cols[0], cols[3], cols[4] == "yes");
+        let frames = clip::load(&dir.join(format!("{name}.y8")), 99, 72).expect("clip");
+        assert_eq!(frames.len().to_string(), cols[1], "{name}: frame count");
+        let mut pipe = Pipeline::new(Params::default(), Behaviour::Escape).unwrap();
+        let mut recs = Vec::new();
+        let mut max_afs = 0;
+        for f in &frames {
+            let (out, j) = pipe.step(f);
+            max_afs = max_afs.max(out.afs.len());
+            recs.push(j);
+        }
+        runs.push(Run {
+            name: name.into(),
+            category: category.into(),
+            looming,
+            recs,
+            max_afs,
+        });
+    }
+    Some(runs)
+}
+
+fn side(r: &FrameJson) -> char {
+    match r.threat_x {
+        Some(x) if x >= 49.0 => 'R',
+        Some(_) => 'L',
+        None => '.',
+    }
+}
+
+#[test]
+fn clips_behave_as_the_manifest_says() {
+    let Some(runs) = run_all() else { return };
+    println!(
+        "{:<40} {:>7} {:>6} {:>6} {:>5} {:>7}  timeline (R/L alert side, S short mode)",
+        "clip", "looming", "frames", "alerts", "AFs", "max sum"
+    );
+    let mut failures = Vec::new();
+    for r in &runs {
+        let alerts: Vec<&FrameJson> = r.recs.iter().filter(|j| j.alert).collect();
+        let timeline: String = r
+            .recs
+            .iter()
+            .map(|j| {
+                if j.short_mode {
+                    'S'
+                } else if j.alert {
+                    side(j)
+                } else {
+                    '.'
+                }
+            })
+            .collect();
+        let max_sum = r.recs.iter().map(|j| j.lplc2_sum).max().unwrap_or(0);
+        println!(
+            "{:<40} {:>7} {:>6} {:>6} {:>5} {:>7}  {timeline}",
+            r.name,
+            r.looming,
+            r.recs.len(),
+            alerts.len(),
+            r.max_afs,
+            max_sum
+        );
+        if r.looming && alerts.is_empty() {
+            failures.push(format!("{}: looming clip without alert", r.name));
+        }
+        if !r.looming && !alerts.is_empty() {
+            failures.push(format!(
+                "{}: {} alerts on a non-looming clip",
+                r.name,
+                alerts.len()
+            ));
+        }
+        if r.category == "multi" && r.max_afs < 2 {
+            failures.push(format!(
+                "{}: at most {} attention field at once",
+                r.name, r.max_afs
+            ));
+        }
+        if r.category == "basic" && r.looming {
+            // the expansion runs the whole clip: most frames after onset alert
+            let late = r.recs.iter().skip(10).filter(|j| j.alert).count();
+            if late * 2 < r.recs.len() - 10 {
+                failures.push(format!("{}: only {late} alerts after frame 10", r.name));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn four_quadrant_threats_are_right_left_left_right() {
+    let Some(runs) = run_all() else { return };
+    for r in runs.iter().filter(|r| r.name.contains("four_quadrants")) {
+        for (phase, start, want) in [(1, 0, 'R'), (2, 50, 'L'), (3, 100, 'L'), (4, 150, 'R')] {
+            // the expansion lasts 40 frames; allow 8 frames of lag
+            let window = &r.recs[start..start + 48];
+            let sides: Vec<char> = window.iter().filter(|j| j.alert).map(side).collect();
+            let right = sides.iter().filter(|&&c| c == want).count();
+            println!(
+                "{} phase {phase}: {} alerts, {right} on side {want}",
+                r.name,
+                sides.len()
+            );
+            assert!(!sides.is_empty(), "{} phase {phase}: no alert", r.name);
+            assert!(
+                right * 4 >= sides.len() * 3,
+                "{} phase {phase}: sides {sides:?}",
+                r.name
+            );
+        }
+    }
+}
+
+#[test]
+fn alerts_only_during_expansion_on_the_phase_clips() {
+    let Some(runs) = run_all() else { return };
+    for r in runs.iter().filter(|r| r.category == "phases") {
+        // expansions: 0-39 of every 100 frames (recede_center: expand 0-39, hold, recede, gone);
+        // four_quadrants: 0-39 of every 50. Allow 8 frames of lag after the expansion ends.
+        let period = if r.name.contains("four_quadrants") {
+            50
+        } else {
+            100
+        };
+        let stray: Vec<u32> = r
+            .recs
+            .iter()
+            .filter(|j| j.alert && (j.frame as usize % period) >= 48)
+            .map(|j| j.frame)
+            .collect();
+        println!("{}: alerts outside expansions: {stray:?}", r.name);
+        assert!(
+            stray.is_empty(),
+            "{}: alerts outside expansion at {stray:?}",
+            r.name
+        );
+    }
+}

@@ -1,0 +1,897 @@
+//! A small, dependency-light RGB raster canvas for ALVS pictures: retina maps, attention-field
+//! overlays, labels in a built-in 5x7 bitmap font, simple line plots, and 8-bit RGB PNG output.
+//!
+//! Coordinates are `i32` with (0, 0) at the top-left; every drawing call clips to the canvas,
+//! so drawing partly or wholly off-canvas never panics.
+
+use std::io;
+use std::ops::Range;
+use std::path::Path;
+
+/// An 8-bit RGB colour.
+pub type Rgb = [u8; 3];
+
+pub const BLACK: Rgb = [0, 0, 0];
+pub const WHITE: Rgb = [255, 255, 255];
+/// The colour of plot markers (e.g. alerts).
+pub const RED: Rgb = [220, 20, 20];
+
+/// Horizontal advance of one character at scale 1 (5 pixels of glyph, 1 of spacing).
+pub const CHAR_ADVANCE: usize = 6;
+/// Height of a glyph at scale 1.
+pub const CHAR_HEIGHT: usize = 7;
+/// Distance between text lines at scale 1.
+const LINE_ADVANCE: i64 = 9;
+
+/// An RGB raster image, row-major.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Canvas {
+    pub width: usize,
+    pub height: usize,
+    /// `width * height` pixels, row after row.
+    pub pixels: Vec<Rgb>,
+}
+
+/// `[lo, lo + len) ∩ [0, max)` as an index range (empty if `len <= 0`).
+fn clip(lo: i64, len: i64, max: usize) -> Range<usize> {
+    let max = max as i64;
+    let a = lo.clamp(0, max);
+    let b = lo.saturating_add(len.max(0)).clamp(0, max);
+    a as usize..b.max(a) as usize
+}
+
+impl Canvas {
+    /// A `width` x `height` canvas filled with `background`.
+    pub fn new(width: usize, height: usize, background: Rgb) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![background; width * height],
+        }
+    }
+
+    fn index(&self, x: i64, y: i64) -> Option<usize> {
+        let inside = (0..self.width as i64).contains(&x) && (0..self.height as i64).contains(&y);
+        inside.then(|| y as usize * self.width + x as usize)
+    }
+
+    fn put(&mut self, x: i64, y: i64, colour: Rgb) {
+        if let Some(i) = self.index(x, y) {
+            self.pixels[i] = colour;
+        }
+    }
+
+    /// The pixel at (x, y), or `None` off-canvas.
+    pub fn get(&self, x: i32, y: i32) -> Option<Rgb> {
+        self.index(x.into(), y.into()).map(|i| self.pixels[i])
+    }
+
+    /// Sets one pixel (ignored off-canvas).
+    pub fn set(&mut self, x: i32, y: i32, colour: Rgb) {
+        self.put(x.into(), y.into(), colour);
+    }
+
+    fn fill64(&mut self, x: i64, y: i64, w: i64, h: i64, colour: Rgb) {
+        let xs = clip(x, w, self.width);
+        for row in clip(y, h, self.height) {
+            self.pixels[row * self.width..][xs.clone()].fill(colour);
+        }
+    }
+
+    /// Fills the `w` x `h` rectangle whose top-left corner is (x, y).
+    pub fn fill_rect(&mut self, x: i32, y: i32, w: i32, h: i32, colour: Rgb) {
+        self.fill64(x.into(), y.into(), w.into(), h.into(), colour);
+    }
+
+    /// Draws the 1-pixel border of the `w` x `h` rectangle at (x, y), inside that rectangle.
+    pub fn rect_outline(&mut self, x: i32, y: i32, w: i32, h: i32, colour: Rgb) {
+        let (x, y, w, h) = (i64::from(x), i64::from(y), i64::from(w), i64::from(h));
+        if w > 0 && h > 0 {
+            self.fill64(x, y, w, 1, colour);
+            self.fill64(x, y + h - 1, w, 1, colour);
+            self.fill64(x, y, 1, h, colour);
+            self.fill64(x + w - 1, y, 1, h, colour);
+        }
+    }
+
+    /// Draws a Bresenham line from (x0, y0) to (x1, y1), both ends included.
+    pub fn line(&mut self, x0: i32, y0: i32, x1: i32, y1: i32, colour: Rgb) {
+        let ends = [x0, y0, x1, y1].map(i64::from);
+        let Some([x0, y0, x1, y1]) = self.clip_line(ends) else {
+            return;
+        };
+        let (dx, dy) = ((x1 - x0).abs(), -(y1 - y0).abs());
+        let (sx, sy) = ((x1 - x0).signum(), (y1 - y0).signum());
+        let (mut x, mut y, mut err) = (x0, y0, dx + dy);
+        loop {
+            self.put(x, y, colour);
+            if x == x1 && y == y1 {
+                break;
+            }
+            let e2 = 2 * err;
+            if e2 >= dy {
+                err += dy;
+                x += sx;
+            }
+            if e2 <= dx {
+                err += dx;
+                y += sy;
+            }
+        }
+    }
+
+    /// Lines with ends near the canvas are drawn exactly (clipped per pixel); lines reaching far
+    /// outside are first cut to the canvas (Liang-Barsky) so their cost stays bounded.
+    fn clip_line(&self, [x0, y0, x1, y1]: [i64; 4]) -> Option<[i64; 4]> {
+        let (w, h) = (self.width as i64, self.height as i64);
+        if w == 0 || h == 0 {
+            return None;
+        }
+        let m = 2 * (w + h);
+        let near = |v: i64, lim: i64| (-m..=lim + m).contains(&v);
+        if near(x0, w) && near(x1, w) && near(y0, h) && near(y1, h) {
+            return Some([x0, y0, x1, y1]);
+        }
+        let (fx, fy, dx, dy) = (x0 as f64, y0 as f64, (x1 - x0) as f64, (y1 - y0) as f64);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for (p, q) in [
+            (-dx, fx),
+            (dx, (w - 1) as f64 - fx),
+            (-dy, fy),
+            (dy, (h - 1) as f64 - fy),
+        ] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+            } else if p < 0.0 {
+                t0 = t0.max(q / p);
+            } else {
+                t1 = t1.min(q / p);
+            }
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let at = |t: f64| [(fx + t * dx).round() as i64, (fy + t * dy).round() as i64];
+        let ([a, b], [c, d]) = (at(t0), at(t1));
+        Some([a, b, c, d])
+    }
+
+    /// A plus-shaped marker centred on (x, y) with arms `size` pixels long (e.g. a centroid).
+    pub fn cross(&mut self, x: i32, y: i32, size: i32, colour: Rgb) {
+        let (x, y, s) = (i64::from(x), i64::from(y), i64::from(size.max(0)));
+        self.fill64(x - s, y, 2 * s + 1, 1, colour);
+        self.fill64(x, y - s, 1, 2 * s + 1, colour);
+    }
+
+    /// Writes `s` in the built-in 5x7 font with its top-left corner at (x, y); each font pixel is
+    /// `scale` x `scale` canvas pixels (0 counts as 1). `'\n'` starts a new line; characters
+    /// without a glyph are drawn as a hollow box.
+    pub fn text(&mut self, x: i32, y: i32, s: &str, colour: Rgb, scale: usize) {
+        let k = scale.clamp(1, 1024) as i64;
+        let (x, mut cy) = (i64::from(x), i64::from(y));
+        let mut cx = x;
+        for ch in s.chars() {
+            if ch == '\n' {
+                (cx, cy) = (x, cy + LINE_ADVANCE * k);
+                continue;
+            }
+            for (r, bits) in (0..).zip(glyph(ch)) {
+                for c in (0..5).filter(|c| bits >> (4 - c) & 1 == 1) {
+                    self.fill64(cx + c * k, cy + r * k, k, k, colour);
+                }
+            }
+            cx += CHAR_ADVANCE as i64 * k;
+        }
+    }
+
+    /// The (width, height) in pixels that [`Canvas::text`] covers for `s` at `scale`.
+    pub fn text_size(s: &str, scale: usize) -> (usize, usize) {
+        if s.is_empty() {
+            return (0, 0);
+        }
+        let k = scale.clamp(1, 1024);
+        let widest = s.split('\n').map(|l| l.chars().count()).max().unwrap_or(0);
+        let lines = s.split('\n').count();
+        let w = (widest * CHAR_ADVANCE).saturating_sub(1) * k;
+        (w, ((lines - 1) * LINE_ADVANCE as usize + CHAR_HEIGHT) * k)
+    }
+
+    /// Copies `other` onto this canvas with its top-left corner at (x, y), clipped.
+    pub fn blit(&mut self, other: &Canvas, x: i32, y: i32) {
+        let (x, y) = (i64::from(x), i64::from(y));
+        let xs = clip(x, other.width as i64, self.width);
+        if xs.is_empty() {
+            return;
+        }
+        let sx = (xs.start as i64 - x) as usize;
+        for row in clip(y, other.height as i64, self.height) {
+            let sy = (row as i64 - y) as usize;
+            let src = &other.pixels[sy * other.width + sx..][..xs.len()];
+            self.pixels[row * self.width..][xs.clone()].copy_from_slice(src);
+        }
+    }
+
+    /// Encodes the canvas as an 8-bit RGB PNG into `out`.
+    pub fn write_png<W: io::Write>(&self, out: W) -> io::Result<()> {
+        let dim = |v: usize| u32::try_from(v).map_err(|_| io::Error::other("canvas too large"));
+        let mut encoder = png::Encoder::new(out, dim(self.width)?, dim(self.height)?);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(self.pixels.as_flattened())?;
+        Ok(writer.finish()?)
+    }
+
+    /// Saves the canvas as an 8-bit RGB PNG file.
+    pub fn save_png(&self, path: impl AsRef<Path>) -> io::Result<()> {
+        let mut bytes = Vec::new();
+        self.write_png(&mut bytes)?;
+        std::fs::write(path, bytes)
+    }
+}
+
+fn glyph(ch: char) -> [u8; 7] {
+    const TOFU: [u8; 7] = [0x1f, 0x11, 0x11, 0x11, 0x11, 0x11, 0x1f];
+    FONT.iter()
+        .find(|(c, _)| *c == ch)
+        .map_or(TOFU, |(_, g)| *g)
+}
+
+/// Builds a `w*scale` x `h*scale` map of `values` (row-major, `w * h` long), each value drawn
+/// by `paint(value, level)` where `level` is `|value| / max|values|` in 0..=255.
+fn map_values(
+    values: &[i32],
+    w: usize,
+    h: usize,
+    scale: usize,
+    paint: impl Fn(i32, u32) -> Rgb,
+) -> Canvas {
+    assert_eq!(values.len(), w * h, "map of {w}x{h} needs {} values", w * h);
+    let k = scale.max(1);
+    let max = values
+        .iter()
+        .map(|v| u64::from(v.unsigned_abs()))
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    let colours: Vec<Rgb> = values
+        .iter()
+        .map(|&v| {
+            paint(
+                v,
+                ((u64::from(v.unsigned_abs()) * 255 + max / 2) / max) as u32,
+            )
+        })
+        .collect();
+    let mut canvas = Canvas::new(w * k, h * k, BLACK);
+    for (i, px) in canvas.pixels.iter_mut().enumerate() {
+        let (x, y) = (i % (w * k), i / (w * k));
+        *px = colours[(y / k) * w + x / k];
+    }
+    canvas
+}
+
+/// Grey-level map: 0 is black, the largest magnitude is white, linear in `|v|` (negative values
+/// are shown by magnitude; use [`signed_map`] to tell signs apart). All-zero input gives black.
+/// Each value becomes a `scale` x `scale` block. Panics unless `values.len() == w * h`.
+pub fn grey_map(values: &[i32], w: usize, h: usize, scale: usize) -> Canvas {
+    map_values(values, w, h, scale, |_, l| [l as u8; 3])
+}
+
+/// Signed map, symmetric around 0 (black): positive values go red then yellow, negative values
+/// blue then cyan, both normalised by the largest magnitude. Same layout as [`grey_map`].
+pub fn signed_map(values: &[i32], w: usize, h: usize, scale: usize) -> Canvas {
+    map_values(values, w, h, scale, |v, l| {
+        let (strong, extra) = ((2 * l).min(255) as u8, (2 * l).saturating_sub(255) as u8);
+        if v >= 0 {
+            [strong, extra, 0]
+        } else {
+            [0, extra, strong]
+        }
+    })
+}
+
+/// Distinct colours for attention fields 0..=6 and plot series (cycles after 8); readable on both
+/// dark maps and white plots, and none of them is the marker [`RED`].
+pub fn colour_cycle(i: usize) -> Rgb {
+    const PALETTE: [Rgb; 8] = [
+        [31, 119, 230],
+        [255, 127, 14],
+        [44, 170, 44],
+        [160, 90, 220],
+        [0, 175, 175],
+        [225, 60, 170],
+        [170, 120, 30],
+        [120, 120, 120],
+    ];
+    PALETTE[i % PALETTE.len()]
+}
+
+const PLOT_BG: Rgb = WHITE;
+const INK: Rgb = [30, 30, 30];
+const GRID: Rgb = [228, 228, 228];
+
+/// A line plot of named series over x = sample index, with a legend, tick labels, optional
+/// vertical markers (thin red ticks along the bottom, e.g. frames where an alert fired) and a
+/// title. Non-finite values are skipped (they break the line).
+#[derive(Clone, Debug, Default)]
+pub struct Plot {
+    pub title: String,
+    pub x_label: String,
+    pub series: Vec<(String, Vec<f32>)>,
+    /// Legend text for the markers.
+    pub marker_label: String,
+    /// x positions (sample indices) of the markers.
+    pub markers: Vec<usize>,
+    /// Fixed y range; `None` fits the data.
+    pub y_range: Option<(f32, f32)>,
+}
+
+/// A "nice" step (1, 2 or 5 times a power of ten) cutting `span > 0` into about `parts` pieces.
+fn nice_step(span: f64, parts: f64) -> f64 {
+    let raw = span / parts;
+    let mag = 10f64.powf(raw.log10().floor());
+    let f = raw / mag;
+    mag * [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .find(|&n| f <= n * 1.0001)
+        .unwrap_or(10.0)
+}
+
+/// Tick values `k * step` inside `[lo, hi]` (at most 100).
+fn ticks(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+    let first = (lo / step - 1e-9).ceil();
+    (0..100)
+        .map(|i| (first + f64::from(i)) * step + 0.0)
+        .take_while(|v| *v <= hi + step * 1e-9)
+        .collect()
+}
+
+impl Plot {
+    /// An empty plot with a title.
+    pub fn new(title: &str) -> Self {
+        Self {
+            title: title.into(),
+            ..Self::default()
+        }
+    }
+
+    /// Adds a named series (y values at x = 0, 1, 2, ...).
+    pub fn series(mut self, name: &str, ys: &[f32]) -> Self {
+        self.series.push((name.into(), ys.to_vec()));
+        self
+    }
+
+    /// Adds vertical markers at the given x positions, named `label` in the legend.
+    pub fn markers(mut self, label: &str, xs: &[usize]) -> Self {
+        self.marker_label = label.into();
+        self.markers.extend_from_slice(xs);
+        self
+    }
+
+    /// Sets the x-axis label.
+    pub fn x_label(mut self, label: &str) -> Self {
+        self.x_label = label.into();
+        self
+    }
+
+    /// Fixes the y range (ignored unless finite with `lo < hi`).
+    pub fn y_range(mut self, lo: f32, hi: f32) -> Self {
+        self.y_range = Some((lo, hi));
+        self
+    }
+
+    /// The y range to draw and its tick step.
+    fn y_axis(&self) -> (f64, f64, f64) {
+        if let Some((lo, hi)) = self
+            .y_range
+            .filter(|(l, h)| l.is_finite() && h.is_finite() && l < h)
+        {
+            let (lo, hi) = (f64::from(lo), f64::from(hi));
+            return (lo, hi, nice_step(hi - lo, 5.0));
+        }
+        let finite = self
+            .series
+            .iter()
+            .flat_map(|(_, ys)| ys)
+            .filter(|v| v.is_finite());
+        let (mut lo, mut hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(f64::from(v)), h.max(f64::from(v)))
+        });
+        if lo > hi {
+            (lo, hi) = (0.0, 1.0);
+        } else if lo == hi {
+            let d = if lo.abs() < 1e-9 { 1.0 } else { lo.abs() * 0.1 };
+            (lo, hi) = (lo - d, hi + d);
+        }
+        let step = nice_step(hi - lo, 5.0);
+        ((lo / step).floor() * step, (hi / step).ceil() * step, step)
+    }
+
+    /// Draws the plot on a new `width` x `height` canvas (white background). Text is doubled in
+    /// size on canvases of at least 900 x 450.
+    pub fn render(&self, width: usize, height: usize) -> Canvas {
+        let mut c = Canvas::new(width, height, PLOT_BG);
+        let k: usize = if width >= 900 && height >= 450 { 2 } else { 1 };
+        let (w, h, s) = (width as i32, height as i32, k as i32);
+        let (char_h, line_h, margin) = (7 * s, 10 * s, 6 * s);
+        let text_w = |t: &str| Canvas::text_size(t, k).0 as i32;
+
+        let (tw, _) = Canvas::text_size(&self.title, k);
+        c.text((w - tw as i32) / 2, margin, &self.title, INK, k);
+        let mut top = margin
+            + if self.title.is_empty() {
+                0
+            } else {
+                line_h + 2 * s
+            };
+
+        // Legend: a swatch and a name per series (and the markers), wrapped into rows.
+        let mut entries: Vec<(&str, Rgb, bool)> = self
+            .series
+            .iter()
+            .enumerate()
+            .map(|(i, (n, _))| (n.as_str(), colour_cycle(i), false))
+            .collect();
+        if !self.markers.is_empty() {
+            entries.push((&self.marker_label, RED, true));
+        }
+        let mut x = margin;
+        for (i, (name, colour, is_marker)) in entries.iter().enumerate() {
+            let entry_w = 14 * s + text_w(name);
+            if x > margin && x + entry_w > w - margin {
+                (x, top) = (margin, top + line_h);
+            }
+            if *is_marker {
+                c.fill_rect(x + 4 * s, top, s, char_h, *colour);
+            } else {
+                c.fill_rect(x, top + 3 * s, 10 * s, 2 * s, *colour);
+            }
+            c.text(x + 14 * s, top, name, INK, k);
+            x += entry_w + 12 * s;
+            if i + 1 == entries.len() {
+                top += line_h + 2 * s;
+            }
+        }
+
+        // Axes ranges and tick labels.
+        let n = self
+            .series
+            .iter()
+            .map(|(_, ys)| ys.len())
+            .max()
+            .unwrap_or(0);
+        let n = n.max(self.markers.iter().max().map_or(0, |m| m + 1));
+        let x_max = n.saturating_sub(1).max(1) as f64;
+        let x_ticks = ticks(0.0, x_max, nice_step(x_max, 6.0).max(1.0));
+        let (y_lo, y_hi, y_step) = self.y_axis();
+        let y_ticks = ticks(y_lo, y_hi, y_step);
+        let decimals = (-y_step.log10().floor()).clamp(0.0, 8.0) as usize;
+        let y_labels: Vec<String> = y_ticks.iter().map(|v| format!("{v:.decimals$}")).collect();
+        let x_labels: Vec<String> = x_ticks.iter().map(|v| format!("{v:.0}")).collect();
+
+        let tick = 3 * s;
+        let left = margin + y_labels.iter().map(|l| text_w(l)).max().unwrap_or(0) + tick + 3 * s;
+        let right = w - margin - x_labels.last().map_or(0, |l| text_w(l) / 2);
+        let x_label_h = if self.x_label.is_empty() { 0 } else { line_h };
+        let bottom = h - margin - x_label_h - line_h - tick;
+        let (pw, ph) = (right - left, bottom - top);
+        if pw < 8 || ph < 8 {
+            return c;
+        }
+        let px = |v: f64| left + (v / x_max * f64::from(pw - 1)).round() as i32;
+        let py = |v: f64| {
+            top + ((y_hi - v) / (y_hi - y_lo) * f64::from(ph - 1))
+                .clamp(-1e7, 1e7)
+                .round() as i32
+        };
+
+        // The plot area is drawn on its own canvas, which clips the data to it.
+        let mut area = Canvas::new(pw as usize, ph as usize, PLOT_BG);
+        for &v in &x_ticks {
+            area.line(px(v) - left, 0, px(v) - left, ph, GRID);
+        }
+        for &v in &y_ticks {
+            area.line(0, py(v) - top, pw, py(v) - top, GRID);
+        }
+        let marker_h = (ph / 10).max(4 * s);
+        for &m in &self.markers {
+            area.fill_rect(px(m as f64) - left, ph - marker_h, s, marker_h, RED);
+        }
+        for (i, (_, ys)) in self.series.iter().enumerate() {
+            let colour = colour_cycle(i);
+            let mut prev: Option<(i32, i32)> = None;
+            for (j, &v) in ys.iter().enumerate() {
+                if !v.is_finite() {
+                    prev = None;
+                    continue;
+                }
+                let p = (px(j as f64) - left, py(f64::from(v)) - top);
+                let lone = prev.is_none() && ys.get(j + 1).is_none_or(|v| !v.is_finite());
+                let q = if lone { p } else { prev.unwrap_or(p) };
+                for t in 0..s {
+                    area.line(q.0, q.1 + t, p.0, p.1 + t, colour);
+                }
+                if lone {
+                    area.cross(p.0, p.1, s, colour);
+                }
+                prev = Some(p);
+            }
+        }
+        c.blit(&area, left, top);
+
+        // Axes, ticks and labels.
+        c.fill_rect(left - 1, top, 1, ph + 1, INK);
+        c.fill_rect(left - 1, bottom, pw + 1, 1, INK);
+        for (&v, label) in y_ticks.iter().zip(&y_labels) {
+            let y = py(v);
+            c.fill_rect(left - 1 - tick, y, tick, 1, INK);
+            c.text(
+                left - 1 - tick - 2 * s - text_w(label),
+                y - char_h / 2,
+                label,
+                INK,
+                k,
+            );
+        }
+        for (&v, label) in x_ticks.iter().zip(&x_labels) {
+            let x = px(v);
+            c.fill_rect(x, bottom + 1, 1, tick, INK);
+            c.text(x - text_w(label) / 2, bottom + tick + 3 * s, label, INK, k);
+        }
+        let xl = self.x_label.as_str();
+        c.text(
+            left + (pw - text_w(xl)) / 2,
+            bottom + tick + 3 * s + line_h,
+            xl,
+            INK,
+            k,
+        );
+        c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn count(c: &Canvas, colour: Rgb) -> usize {
+        c.pixels.iter().filter(|&&p| p == colour).count()
+    }
+
+    #[test]
+    fn drawing_off_canvas_changes_nothing() {
+        let mut c = Canvas::new(10, 8, BLACK);
+        let other = Canvas::new(4, 4, WHITE);
+        c.fill_rect(-5, -5, 3, 3, WHITE);
+        c.fill_rect(i32::MAX - 1, i32::MAX - 1, i32::MAX, i32::MAX, WHITE);
+        c.rect_outline(20, 2, 5, 5, WHITE);
+        c.rect_outline(i32::MIN, i32::MIN, i32::MAX, i32::MAX, WHITE);
+        c.line(-100, -100, -5, 50, WHITE);
+        c.line(i32::MIN, i32::MIN, i32::MAX, i32::MIN, WHITE);
+        c.line(i32::MIN, 20, i32::MAX, 9, WHITE);
+        c.cross(-10, -10, 3, WHITE);
+        c.cross(i32::MAX, i32::MIN, i32::MAX, WHITE);
+        c.text(100, 0, "L_ON t=37", WHITE, 3);
+        c.text(i32::MAX, i32::MAX, "AF1", WHITE, usize::MAX);
+        c.blit(&other, -4, 0);
+        c.blit(&other, i32::MAX, i32::MIN);
+        c.set(10, 0, WHITE);
+        c.set(-1, 3, WHITE);
+        assert_eq!(count(&c, WHITE), 0);
+        assert_eq!(c.get(10, 0), None);
+    }
+
+    #[test]
+    fn partly_visible_shapes_are_clipped() {
+        let mut c = Canvas::new(10, 8, BLACK);
+        c.fill_rect(-3, 5, 6, 10, WHITE);
+        assert_eq!(count(&c, WHITE), 3 * 3);
+        let mut c = Canvas::new(10, 8, BLACK);
+        c.blit(&Canvas::new(4, 4, WHITE), 8, -1);
+        assert_eq!(count(&c, WHITE), 2 * 3);
+        assert_eq!(c.get(9, 2), Some(WHITE));
+        let mut c = Canvas::new(10, 8, BLACK);
+        c.line(-1_000_000_000, 4, 1_000_000_000, 4, WHITE);
+        assert_eq!(count(&c, WHITE), 10);
+        assert!((0..10).all(|x| c.get(x, 4) == Some(WHITE)));
+    }
+
+    #[test]
+    fn line_sets_both_endpoints() {
+        for [x0, y0, x1, y1] in [
+            [1, 1, 8, 3],
+            [8, 6, 2, 0],
+            [3, 7, 4, 0],
+            [5, 5, 5, 5],
+            [0, 7, 9, 0],
+        ] {
+            let mut c = Canvas::new(10, 8, BLACK);
+            c.line(x0, y0, x1, y1, WHITE);
+            assert_eq!(c.get(x0, y0), Some(WHITE));
+            assert_eq!(c.get(x1, y1), Some(WHITE));
+            let len = (x1 - x0).abs().max((y1 - y0).abs()) + 1;
+            assert_eq!(count(&c, WHITE), len as usize);
+        }
+    }
+
+    #[test]
+    fn rect_outline_and_cross() {
+        let mut c = Canvas::new(10, 8, BLACK);
+        c.rect_outline(1, 1, 4, 3, WHITE);
+        assert_eq!(count(&c, WHITE), 4 + 4 + 1 + 1);
+        assert_eq!(c.get(2, 2), Some(BLACK));
+        let mut c = Canvas::new(10, 8, BLACK);
+        c.cross(5, 4, 2, WHITE);
+        assert_eq!(count(&c, WHITE), 9);
+    }
+
+    #[test]
+    fn grey_map_normalises_by_largest_magnitude() {
+        let c = grey_map(&[0, 5, -10, 10], 2, 2, 3);
+        assert_eq!((c.width, c.height), (6, 6));
+        assert_eq!(c.get(2, 2), Some(BLACK));
+        assert_eq!(c.get(3, 0), Some([128; 3]));
+        assert_eq!(c.get(0, 5), Some(WHITE));
+        assert_eq!(c.get(5, 5), Some(WHITE));
+        assert_eq!(count(&grey_map(&[0; 6], 3, 2, 1), BLACK), 6);
+        assert_eq!(grey_map(&[i32::MIN, 0], 2, 1, 0).get(0, 0), Some(WHITE));
+    }
+
+    #[test]
+    fn signed_map_colours() {
+        let c = signed_map(&[-4, 0, 2, 4], 4, 1, 1);
+        assert_eq!(
+            c.pixels,
+            vec![[0, 255, 255], BLACK, [255, 1, 0], [255, 255, 0]]
+        );
+        assert_eq!(count(&signed_map(&[0; 4], 2, 2, 2), BLACK), 16);
+    }
+
+    #[test]
+    fn colours_of_attention_fields_are_distinct() {
+        let colours: Vec<Rgb> = (0..7).map(colour_cycle).collect();
+        assert!((0..7).all(|i| (i + 1..7).all(|j| colours[i] != colours[j])));
+        assert!(!colours.contains(&RED));
+    }
+
+    #[test]
+    fn font_covers_the_label_characters() {
+        let wanted =
+            "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz.,:;-+_=()/%#<>[]";
+        for ch in wanted.chars() {
+            let g = FONT.iter().find(|(c, _)| *c == ch).map(|(_, g)| g);
+            assert!(
+                g.is_some_and(|g| g.iter().any(|&row| row != 0)),
+                "no glyph for {ch:?}"
+            );
+        }
+        for (i, (a, ga)) in FONT.iter().enumerate() {
+            assert!(
+                ga.iter().all(|&row| row < 32),
+                "glyph {a:?} is wider than 5"
+            );
+            for (b, gb) in &FONT[i + 1..] {
+                assert!(a != b && (ga != gb || *a == ' '), "{a:?} and {b:?} clash");
+            }
+        }
+    }
+
+    #[test]
+    fn text_stays_inside_its_box() {
+        for (s, scale) in [
+            ("L_ON t=37", 1),
+            ("AF1 LPLC2", 2),
+            ("frame\n[0]", 1),
+            ("gq?", 3),
+        ] {
+            let (x0, y0) = (3, 2);
+            let mut c = Canvas::new(200, 70, BLACK);
+            c.text(x0, y0, s, WHITE, scale);
+            let (w, h) = Canvas::text_size(s, scale);
+            assert!(count(&c, WHITE) > 0);
+            for (i, p) in c.pixels.iter().enumerate() {
+                let (x, y) = ((i % c.width) as i32, (i / c.width) as i32);
+                let inside = (x0..x0 + w as i32).contains(&x) && (y0..y0 + h as i32).contains(&y);
+                assert!(
+                    *p == BLACK || inside,
+                    "{s:?} drew outside its box at ({x}, {y})"
+                );
+            }
+        }
+        assert_eq!(Canvas::text_size("", 1), (0, 0));
+    }
+
+    #[test]
+    fn png_round_trip() {
+        let mut c = Canvas::new(7, 5, [10, 20, 30]);
+        c.set(3, 2, [200, 100, 50]);
+        let path =
+            std::env::temp_dir().join(format!("alvs_canvas_test_{}.png", std::process::id()));
+        c.save_png(&path).unwrap();
+        let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+        let mut reader = png::Decoder::new(file).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!((info.width, info.height), (7, 5));
+        assert_eq!(
+            (info.color_type, info.bit_depth),
+            (png::ColorType::Rgb, png::BitDepth::Eight)
+        );
+        let at = |x: usize, y: usize| &buf[(y * 7 + x) * 3..][..3];
+        assert_eq!(at(3, 2), [200, 100, 50]);
+        assert_eq!(at(0, 0), [10, 20, 30]);
+    }
+
+    #[test]
+    fn plots_of_awkward_series_render() {
+        let flat = [3.0f32; 10];
+        let plots = [
+            Plot::new("empty"),
+            Plot::new("").series("none", &[]),
+            Plot::new("nan")
+                .series("nan", &[f32::NAN; 5])
+                .markers("alert", &[2]),
+            Plot::new("flat").series("flat", &flat).x_label("frame"),
+            Plot::new("mixed").series("a", &[1.0, f32::NAN, 2.0, f32::INFINITY, -1.0, 5.0]),
+            Plot::new("one").series("a", &[0.0]).markers("m", &[40]),
+            Plot::new("range")
+                .series("a", &[1e30, -1e30])
+                .y_range(0.0, 0.0),
+            Plot::new("fixed")
+                .series("a", &[-5.0, 5.0])
+                .y_range(0.0, 1.0),
+        ];
+        for plot in &plots {
+            for (w, h) in [(0, 0), (5, 5), (40, 30), (320, 200), (1000, 500)] {
+                let c = plot.render(w, h);
+                assert_eq!((c.width, c.height, c.pixels.len()), (w, h, w * h));
+            }
+        }
+        assert!(count(&plots[3].render(320, 200), colour_cycle(0)) > 100);
+        assert!(count(&plots[2].render(320, 200), RED) > 0);
+    }
+
+    #[test]
+    #[ignore = "writes /tmp/canvas_sample.png for a visual check"]
+    fn sample_picture() {
+        let (w, h) = (99, 72);
+        let values: Vec<i32> = (0..w * h)
+            .map(|i| ((i % w) * 10 + (i / w) * 3) as i32 - 300)
+            .collect();
+        let mut map = grey_map(&values, w, h, 4);
+        map.rect_outline(120, 80, 100, 90, colour_cycle(0));
+        map.rect_outline(121, 81, 98, 88, colour_cycle(0));
+        map.cross(170, 125, 6, colour_cycle(1));
+        map.text(124, 84, "AF1 LPLC2", colour_cycle(0), 1);
+        map.text(4, 4, "L_ON t=37", WHITE, 2);
+        let sm = signed_map(&values, w, h, 2);
+        let ys: Vec<f32> = (0..120)
+            .map(|i| (i as f32 / 9.0).sin() * 40.0 + 50.0)
+            .collect();
+        let zs: Vec<f32> = (0..100)
+            .map(|i| {
+                if i % 37 == 5 {
+                    f32::NAN
+                } else {
+                    i as f32 * 0.8
+                }
+            })
+            .collect();
+        let plot = Plot::new("LPLC2 response")
+            .series("AF0", &ys)
+            .series("AF1", &zs);
+        let plot = plot
+            .markers("alert", &[30, 31, 64, 90])
+            .x_label("frame")
+            .render(600, 300);
+        let mut page = Canvas::new(600, 300 + 4 * h + 10, [60, 60, 60]);
+        page.blit(&map, 0, 0);
+        page.blit(&sm, 4 * w as i32 + 10, 0);
+        page.blit(&plot, 0, 4 * h as i32 + 10);
+        page.save_png("/tmp/canvas_sample.png").unwrap();
+        let mut big = Canvas::new(1000, 500, BLACK);
+        big.blit(
+            &Plot::new("big")
+                .series("a", &ys)
+                .markers("alert", &[3])
+                .render(1000, 500),
+            0,
+            0,
+        );
+        big.save_png("/tmp/canvas_sample_big.png").unwrap();
+    }
+}
+
+/// The 5x7 font: seven rows per glyph, top first, bit 4 = leftmost pixel.
+#[rustfmt::skip]
+static FONT: &[(char, [u8; 7])] = &[
+    ('0', [0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e]),
+    ('1', [0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e]),
+    ('2', [0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f]),
+    ('3', [0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e]),
+    ('4', [0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02]),
+    ('5', [0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e]),
+    ('6', [0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e]),
+    ('7', [0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08]),
+    ('8', [0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e]),
+    ('9', [0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c]),
+    ('A', [0x0e, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11]),
+    ('B', [0x1e, 0x11, 0x11, 0x1e, 0x11, 0x11, 0x1e]),
+    ('C', [0x0e, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0e]),
+    ('D', [0x1c, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1c]),
+    ('E', [0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x1f]),
+    ('F', [0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x10]),
+    ('G', [0x0e, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0f]),
+    ('H', [0x11, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11]),
+    ('I', [0x0e, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e]),
+    ('J', [0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0c]),
+    ('K', [0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11]),
+    ('L', [0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1f]),
+    ('M', [0x11, 0x1b, 0x15, 0x15, 0x11, 0x11, 0x11]),
+    ('N', [0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11]),
+    ('O', [0x0e, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e]),
+    ('P', [0x1e, 0x11, 0x11, 0x1e, 0x10, 0x10, 0x10]),
+    ('Q', [0x0e, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0d]),
+    ('R', [0x1e, 0x11, 0x11, 0x1e, 0x14, 0x12, 0x11]),
+    ('S', [0x0f, 0x10, 0x10, 0x0e, 0x01, 0x01, 0x1e]),
+    ('T', [0x1f, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04]),
+    ('U', [0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e]),
+    ('V', [0x11, 0x11, 0x11, 0x11, 0x11, 0x0a, 0x04]),
+    ('W', [0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0a]),
+    ('X', [0x11, 0x11, 0x0a, 0x04, 0x0a, 0x11, 0x11]),
+    ('Y', [0x11, 0x11, 0x0a, 0x04, 0x04, 0x04, 0x04]),
+    ('Z', [0x1f, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1f]),
+    ('a', [0x00, 0x00, 0x0e, 0x01, 0x0f, 0x11, 0x0f]),
+    ('b', [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1e]),
+    ('c', [0x00, 0x00, 0x0e, 0x10, 0x10, 0x11, 0x0e]),
+    ('d', [0x01, 0x01, 0x0d, 0x13, 0x11, 0x11, 0x0f]),
+    ('e', [0x00, 0x00, 0x0e, 0x11, 0x1f, 0x10, 0x0e]),
+    ('f', [0x06, 0x09, 0x08, 0x1c, 0x08, 0x08, 0x08]),
+    ('g', [0x00, 0x0f, 0x11, 0x11, 0x0f, 0x01, 0x0e]),
+    ('h', [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11]),
+    ('i', [0x04, 0x00, 0x0c, 0x04, 0x04, 0x04, 0x0e]),
+    ('j', [0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0c]),
+    ('k', [0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12]),
+    ('l', [0x0c, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e]),
+    ('m', [0x00, 0x00, 0x1a, 0x15, 0x15, 0x11, 0x11]),
+    ('n', [0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11]),
+    ('o', [0x00, 0x00, 0x0e, 0x11, 0x11, 0x11, 0x0e]),
+    ('p', [0x00, 0x1e, 0x11, 0x11, 0x1e, 0x10, 0x10]),
+    ('q', [0x00, 0x0f, 0x11, 0x11, 0x0f, 0x01, 0x01]),
+    ('r', [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10]),
+    ('s', [0x00, 0x00, 0x0f, 0x10, 0x0e, 0x01, 0x1e]),
+    ('t', [0x08, 0x08, 0x1c, 0x08, 0x08, 0x09, 0x06]),
+    ('u', [0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0d]),
+    ('v', [0x00, 0x00, 0x11, 0x11, 0x11, 0x0a, 0x04]),
+    ('w', [0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0a]),
+    ('x', [0x00, 0x00, 0x11, 0x0a, 0x04, 0x0a, 0x11]),
+    ('y', [0x00, 0x11, 0x11, 0x11, 0x0f, 0x01, 0x0e]),
+    ('z', [0x00, 0x00, 0x1f, 0x02, 0x04, 0x08, 0x1f]),
+    (' ', [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00]),
+    ('.', [0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c]),
+    (',', [0x00, 0x00, 0x00, 0x00, 0x0c, 0x04, 0x08]),
+    (':', [0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x0c, 0x00]),
+    (';', [0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x04, 0x08]),
+    ('-', [0x00, 0x00, 0x00, 0x1f, 0x00, 0x00, 0x00]),
+    ('+', [0x00, 0x04, 0x04, 0x1f, 0x04, 0x04, 0x00]),
+    ('_', [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1f]),
+    ('=', [0x00, 0x00, 0x1f, 0x00, 0x1f, 0x00, 0x00]),
+    ('(', [0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02]),
+    (')', [0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08]),
+    ('/', [0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00]),
+    ('%', [0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03]),
+    ('#', [0x0a, 0x0a, 0x1f, 0x0a, 0x1f, 0x0a, 0x0a]),
+    ('<', [0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02]),
+    ('>', [0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08]),
+    ('[', [0x0e, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0e]),
+    (']', [0x0e, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0e]),
+    ('!', [0x04, 0x04, 0x04, 0x04, 0x04, 0x00, 0x04]),
+    ('?', [0x0e, 0x11, 0x01, 0x02, 0x04, 0x00, 0x04]),
+    ('*', [0x00, 0x04, 0x15, 0x0e, 0x15, 0x04, 0x00]),
+    ('\'', [0x04, 0x04, 0x08, 0x00, 0x00, 0x00, 0x00]),
+    ('|', [0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04]),
+];

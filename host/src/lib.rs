@@ -1,0 +1,7 @@
+//! Host tools for ALVS: replay of recorded video through the exact firmware task code,
+//! synthetic demo scenes, and pictures.
+
+pub mod canvas;
+pub mod clip;
+pub mod replay;
+pub mod scenes;
