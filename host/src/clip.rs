@@ -28,7 +28,7 @@ pub fn y8_frames(bytes: &[u8]) -> Result<Vec<Frame>> {
     if bytes.is_empty() {
         bail!("empty clip: no frames");
     }
-    if bytes.len() % PIXELS != 0 {
+    if !bytes.len().is_multiple_of(PIXELS) {
         bail!(
             "size {} bytes is not a multiple of a {WIDTH}x{HEIGHT} frame ({PIXELS} bytes)",
             bytes.len()
