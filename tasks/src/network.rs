@@ -160,7 +160,8 @@ impl Network {
             self.prev = *frame;
             return Perception {
                 frame: index,
-                ..Perception::default()
+                afs: heapless::Vec::new(),
+                vm: Visuomotor::from_fields(core::iter::empty(), &self.params),
             };
         }
         let p = self.params;
@@ -246,6 +247,7 @@ mod tests {
         let out = n.step(&[0; PIXELS]);
         assert_eq!(out.frame, 0);
         assert!(!out.alert() && out.afs.is_empty());
+        assert_eq!(out.vm.strength, 0.5, "S of an empty field set, Eq. (11)");
         // a huge change on the second frame is seen
         let out = n.step(&[255; PIXELS]);
         assert_eq!(out.frame, 1);

@@ -34,10 +34,14 @@ impl Visuomotor {
         let sum = fields
             .clone()
             .fold(0u32, |acc, (_, r)| acc.saturating_add(r));
-        // Eq. (12) in f32: once per frame, over at most MAX_AFS terms.
+        // Eq. (12) in f32: once per frame, over at most MAX_AFS terms. The denominator is summed
+        // in f32 like the numerator, not taken from the saturating integer sum, so X̄ stays a
+        // weighted mean of the fields' columns even when responses saturate.
         let threat_x = (sum > 0).then(|| {
-            let num: f32 = fields.map(|(x, r)| f32::from(x) * r as f32).sum();
-            num / sum as f32
+            let (num, den) = fields.fold((0.0f32, 0.0f32), |(n, d), (x, r)| {
+                (n + f32::from(x) * r as f32, d + r as f32)
+            });
+            num / den
         });
         let alert = sum > 0;
         Visuomotor {
