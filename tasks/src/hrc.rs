@@ -132,10 +132,31 @@ pub fn correlate(
 }
 
 /// Eq. (7), rectified: `max(0, T4 + T5)` at `(x, y)` along `dir`, in model units.
+///
+/// Both channels in one loop over the neurons that lie on the retina (the same sums as
+/// [`correlate`], which stays the plain reference).
 #[inline]
 pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) -> u32 {
-    let t4 = correlate(m.on, m.on_d, x, y, dir, sc.n, sc.s);
-    let t5 = correlate(m.off, m.off_d, x, y, dir, sc.n, sc.s);
+    let s = sc.s.max(1);
+    let (room, stride) = match dir {
+        Direction::Right => (WIDTH - 1 - x, 1isize),
+        Direction::Left => (x, -1),
+        Direction::Down => (HEIGHT - 1 - y, WIDTH as isize),
+        Direction::Up => (y, -(WIDTH as isize)),
+    };
+    let count = sc.n.min(room / s);
+    let step = stride * s as isize;
+    let p = y * WIDTH + x;
+    let (on_p, on_dp) = (i32::from(m.on[p]), i32::from(m.on_d[p]));
+    let (off_p, off_dp) = (i32::from(m.off[p]), i32::from(m.off_d[p]));
+    let (mut t4, mut t5) = (0i32, 0i32);
+    let mut q = p as isize;
+    for _ in 0..count {
+        q += step;
+        let qi = q as usize; // on the retina: count ≤ room / s
+        t4 += i32::from(m.on[qi]) * on_dp - i32::from(m.on_d[qi]) * on_p;
+        t5 += i32::from(m.off[qi]) * off_dp - i32::from(m.off_d[qi]) * off_p;
+    }
     let lm = (sc.t4_q8 * i64::from(t4) + sc.t5_q8 * i64::from(t5)) >> sc.shift;
     lm.clamp(0, i64::from(u32::MAX)) as u32
 }
@@ -268,5 +289,49 @@ mod tests {
             local_motion(&m, &sc, 40, 33, Direction::Right),
             (16 * 100 * 100) >> p.lm_shift
         );
+    }
+
+    #[test]
+    fn the_fused_loop_equals_the_reference_correlators() {
+        let mut seed = 99u32;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
+            (seed >> 16) as u8
+        };
+        let mut maps = [[0u8; PIXELS]; 4];
+        for m in maps.iter_mut() {
+            for v in m.iter_mut() {
+                *v = rnd();
+            }
+        }
+        let m = Maps {
+            on: &maps[0],
+            off: &maps[1],
+            on_d: &maps[2],
+            off_d: &maps[3],
+        };
+        for (n, s) in [(3u8, 1u8), (1, 1), (4, 2), (2, 4)] {
+            let p = Params {
+                n,
+                s,
+                ..Params::default()
+            };
+            let sc = LmScale::new(&p);
+            for y in 0..HEIGHT {
+                for x in 0..WIDTH {
+                    for d in Direction::ALL {
+                        let t4 = correlate(m.on, m.on_d, x, y, d, sc.n, sc.s);
+                        let t5 = correlate(m.off, m.off_d, x, y, d, sc.n, sc.s);
+                        let lm = (sc.t4_q8 * i64::from(t4) + sc.t5_q8 * i64::from(t5)) >> sc.shift;
+                        let want = lm.clamp(0, i64::from(u32::MAX)) as u32;
+                        assert_eq!(
+                            local_motion(&m, &sc, x, y, d),
+                            want,
+                            "({x},{y}) {d:?} n{n} s{s}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

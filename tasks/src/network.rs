@@ -179,22 +179,32 @@ impl Network {
 
         // Eqs. (6)–(9) per field, then Eq. (10).
         let maps = self.maps();
-        let mut results: heapless::Vec<(u16, Lplc2), MAX_AFS> = heapless::Vec::new();
-        for f in self.fields.iter() {
-            let (cols, rows) = f.square(p.r_af);
-            let l = lplc2::integrate(
-                &maps,
-                &self.scale,
-                (usize::from(f.x), usize::from(f.y)),
-                cols,
-                rows,
-                p.q_floor,
-                p.q_balance,
-            );
-            // capacity equals the number of fields: never fails
-            let _ = results.push((f.id, l));
-        }
-        for (f, (_, l)) in self.fields.iter_mut().zip(results.iter()) {
+        let regions: heapless::Vec<lplc2::Region, MAX_AFS> = self
+            .fields
+            .iter()
+            .map(|f| {
+                let (cols, rows) = f.square(p.r_af);
+                let centre = (usize::from(f.x), usize::from(f.y));
+                lplc2::Region { centre, cols, rows }
+            })
+            .collect();
+        let mut lplc = [Lplc2::default(); MAX_AFS];
+        lplc2::integrate_all(
+            &maps,
+            &self.scale,
+            &regions,
+            p.q_floor,
+            p.q_balance,
+            &mut lplc,
+        );
+        // (id, result) of every field alive during this frame, before Eq. (10) retires some
+        let results: heapless::Vec<(u16, Lplc2), MAX_AFS> = self
+            .fields
+            .iter()
+            .zip(lplc.iter())
+            .map(|(f, l)| (f.id, *l))
+            .collect();
+        for (f, l) in self.fields.iter_mut().zip(lplc.iter()) {
             f.push_response(l.response);
         }
         self.fields.retire(p.d, p.t_d);
