@@ -143,6 +143,28 @@ pub fn quantize_x(x: Option<f32>) -> Option<u16> {
 }
 
 impl Record {
+    /// The record of one frame: the perception task's output, the FSM state the motor task
+    /// chose for it, and the cycles the frame took.
+    pub fn from_perception(p: &crate::network::Perception, state: State, cycles: u32) -> Record {
+        Record {
+            frame: p.frame,
+            afs: p
+                .afs
+                .iter()
+                .map(|a| AfTelemetry {
+                    x: a.x,
+                    y: a.y,
+                    lplc2: a.lplc2,
+                })
+                .collect(),
+            lplc2_sum: p.vm.lplc2_sum,
+            strength_milli: quantize_strength(p.vm.strength),
+            threat_x_tenths: quantize_x(p.vm.threat_x),
+            state,
+            cycles,
+        }
+    }
+
     /// Escape strength S as `f32` (from [`Record::strength_milli`]).
     pub fn strength(&self) -> f32 {
         f32::from(self.strength_milli) / 1000.0
@@ -750,5 +772,36 @@ mod tests {
                 check_canonical(s);
             }
         }
+    }
+
+    #[test]
+    fn a_perception_becomes_a_record_and_a_line() {
+        use crate::network::{AfReport, Perception};
+        use crate::visuomotor::Visuomotor;
+        let mut p = Perception {
+            frame: 42,
+            ..Perception::default()
+        };
+        let _ = p.afs.push(AfReport {
+            x: 20,
+            y: 30,
+            lplc2: 1000,
+            ..AfReport::default()
+        });
+        let _ = p.afs.push(AfReport {
+            x: 80,
+            y: 40,
+            lplc2: 3000,
+            ..AfReport::default()
+        });
+        p.vm = Visuomotor::from_fields(
+            p.afs.iter().map(|a| (a.x, a.lplc2)),
+            &crate::params::Params::default(),
+        );
+        let r = Record::from_perception(&p, State::LongTakeoff, 123_456);
+        assert_eq!(
+            r.to_line().as_str(),
+            "F 42 st=long_takeoff S=0.731 X=65.0 sum=4000 cyc=123456 af=20,30,1000;80,40,3000\n"
+        );
     }
 }
