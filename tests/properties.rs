@@ -261,7 +261,7 @@ fn check(p: &Params, index: usize, out: &Perception) -> Result<(), TestCaseError
         );
         return Ok(());
     }
-    let mut ids: Vec<u16> = out.afs.iter().map(|a| a.id).collect();
+    let mut ids: Vec<u32> = out.afs.iter().map(|a| a.id).collect();
     ids.sort_unstable();
     ids.dedup();
     prop_assert_eq!(ids.len(), out.afs.len(), "duplicate ids: {}", ctx());
@@ -552,7 +552,8 @@ fn invalid_parameters_are_refused() {
         let mut p = good;
         let name = bad.apply(&mut p);
         let refused = |r: Result<(), ParamError>| match r {
-            Err(ParamError::OutOfRange { name: n, .. }) => n == name,
+            Err(ParamError::OutOfRange { name: n, .. })
+            | Err(ParamError::OutOfRangeReal { name: n, .. }) => n == name,
             _ => false,
         };
         prop_assert!(refused(p.validate()), "{:?}: {:?}", p, p.validate());
@@ -576,7 +577,9 @@ fn invalid_parameters_are_refused() {
         prop_assert!(
             matches!(
                 r,
-                Err(ParamError::OutOfRange { .. }) | Err(ParamError::NotANumber { .. })
+                Err(ParamError::OutOfRange { .. })
+                    | Err(ParamError::OutOfRangeReal { .. })
+                    | Err(ParamError::NotANumber { .. })
             ),
             "set({}, {}) = {:?}",
             name,

@@ -105,7 +105,13 @@ pub fn parse_pgm(bytes: &[u8]) -> Result<Frame> {
         bail!("PGM pixel data is {} bytes, expected {PIXELS}", data.len());
     }
     let mut f = [0u8; PIXELS];
-    f.copy_from_slice(data);
+    for (o, &v) in f.iter_mut().zip(data) {
+        if usize::from(v) > maxval {
+            bail!("PGM pixel value {v} exceeds maxval {maxval}");
+        }
+        // rescale to 0..=255, rounding to nearest
+        *o = ((usize::from(v) * 255 + maxval / 2) / maxval) as u8;
+    }
     Ok(f)
 }
 
@@ -136,6 +142,16 @@ mod tests {
         let commented = [b"P5\n# made by hand\n99 72\n255\n".as_slice(), &f].concat();
         assert_eq!(parse_pgm(&commented).unwrap(), f);
         assert!(parse_pgm(b"P2\n99 72\n255\n").is_err());
+        // a 4-bit PGM is rescaled to 8 bits; values above maxval are refused
+        let mut g = [0u8; PIXELS];
+        g[0] = 15;
+        g[1] = 8;
+        let four_bit = [b"P5\n99 72\n15\n".as_slice(), &g].concat();
+        let h = parse_pgm(&four_bit).unwrap();
+        assert_eq!((h[0], h[1], h[2]), (255, 136, 0));
+        g[2] = 16;
+        let over = [b"P5\n99 72\n15\n".as_slice(), &g].concat();
+        assert!(format!("{:#}", parse_pgm(&over).unwrap_err()).contains("exceeds maxval"));
         let wrong = [b"P5\n100 72\n255\n".as_slice(), &[0; 7200]].concat();
         assert!(format!("{:#}", parse_pgm(&wrong).unwrap_err()).contains("99x72"));
         let short = [b"P5\n99 72\n255\n".as_slice(), &[0; 10]].concat();

@@ -162,9 +162,9 @@ pub fn layer_sheet(frame: &Frame, net: &Network, out: &Perception) -> Canvas {
 }
 
 /// LPLC2 of every attention field over time, with `ΣLPLC2`, `T_s` and the alert frames.
-pub fn trace_plot(records: &[(FrameJson, Vec<(u16, u32)>)], t_s: u32, title: &str) -> Canvas {
+pub fn trace_plot(records: &[(FrameJson, Vec<(u32, u32)>)], t_s: u32, title: &str) -> Canvas {
     let n = records.len();
-    let mut ids: Vec<u16> = records
+    let mut ids: Vec<u32> = records
         .iter()
         .flat_map(|(_, a)| a.iter().map(|p| p.0))
         .collect();

@@ -26,26 +26,29 @@ use crate::retina::Weights;
 /// One attention field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Field {
-    /// Identifier, unique over a run (wraps after 65535 fields).
-    pub id: u16,
+    /// Identifier, unique over a run (4 × 10⁹ fields: years at one field per frame).
+    pub id: u32,
     /// Centroid column `x̄_k`.
     pub x: u8,
     /// Centroid row `ȳ_k`.
     pub y: u8,
     /// Frames this field has lived through (1 in its first frame).
-    pub age: u16,
-    /// LPLC2 responses of the last `MAX_D` frames, newest at `age % MAX_D`.
+    pub age: u32,
+    /// LPLC2 responses of the last `MAX_D` frames, newest at `head`.
     history: [u32; MAX_D as usize],
+    /// Slot of the newest response; wraps independently of `age`, which saturates.
+    head: u8,
 }
 
 impl Field {
-    fn new(id: u16, x: usize, y: usize) -> Self {
+    fn new(id: u32, x: usize, y: usize) -> Self {
         Field {
             id,
             x: x as u8,
             y: y as u8,
             age: 0,
             history: [0; MAX_D as usize],
+            head: 0,
         }
     }
 
@@ -68,21 +71,22 @@ impl Field {
     /// Records this frame's LPLC2 response.
     pub fn push_response(&mut self, r: u32) {
         self.age = self.age.saturating_add(1);
-        self.history[usize::from(self.age) % usize::from(MAX_D)] = r;
+        self.head = (self.head + 1) % MAX_D;
+        self.history[usize::from(self.head)] = r;
     }
 
     /// The newest LPLC2 response.
     pub fn response(&self) -> u32 {
-        self.history[usize::from(self.age) % usize::from(MAX_D)]
+        self.history[usize::from(self.head)]
     }
 
     /// Mean LPLC2 over the last `d` frames (Eq. 10), over fewer while younger than `d`.
     pub fn mean_response(&self, d: u8) -> u32 {
-        let k = u16::from(d).min(self.age).max(1);
+        let k = u32::from(d.min(MAX_D)).min(self.age).max(1);
         let mut sum = 0u64;
         for i in 0..k {
-            let slot = usize::from(self.age.wrapping_sub(i)) % usize::from(MAX_D);
-            sum += u64::from(self.history[slot]);
+            let slot = (u32::from(self.head) + u32::from(MAX_D) - i) % u32::from(MAX_D);
+            sum += u64::from(self.history[slot as usize]);
         }
         (sum / u64::from(k)) as u32
     }
@@ -92,7 +96,7 @@ impl Field {
 #[derive(Debug, Clone, Default)]
 pub struct Fields {
     list: heapless::Vec<Field, MAX_AFS>,
-    next_id: u16,
+    next_id: u32,
 }
 
 impl Fields {
@@ -134,7 +138,7 @@ impl Fields {
         off: &[u8; PIXELS],
         w: &Weights,
         p: &Params,
-    ) -> Option<u16> {
+    ) -> Option<u32> {
         if self.list.is_full() {
             return None;
         }
@@ -221,11 +225,11 @@ impl Fields {
             return;
         };
         self.list
-            .retain(|f| f.id == keep || f.age < u16::from(d) || f.mean_response(d) >= t_d);
+            .retain(|f| f.id == keep || f.age < u32::from(d) || f.mean_response(d) >= t_d);
     }
 
     /// Adds a field directly (tests and replays of recorded states).
-    pub fn insert(&mut self, x: u8, y: u8) -> Option<u16> {
+    pub fn insert(&mut self, x: u8, y: u8) -> Option<u32> {
         let id = self.next_id;
         let (x, y) = (
             usize::from(x).min(WIDTH - 1),
@@ -331,7 +335,7 @@ mod tests {
         f.fuse(36);
         // (60,40) is within 36 of (90,60) but not of (10,60)
         assert_eq!(
-            f.iter().map(|g| g.id).collect::<heapless::Vec<u16, 6>>()[..],
+            f.iter().map(|g| g.id).collect::<heapless::Vec<u32, 6>>()[..],
             [0, 2]
         );
     }
@@ -385,5 +389,18 @@ mod tests {
         assert_eq!(f.insert(0, 0), None);
         let off = off_map(&[(50, 50, 200)]);
         assert_eq!(f.spawn(&[0; PIXELS], &off, &w(), &p()), None);
+    }
+
+    #[test]
+    fn the_mean_stays_right_for_fields_older_than_any_counter() {
+        let mut g = Field::new(0, 0, 0);
+        for _ in 0..70_000 {
+            g.push_response(0);
+        }
+        for _ in 0..4 {
+            g.push_response(9000);
+        }
+        assert_eq!(g.mean_response(4), 9000);
+        assert_eq!(g.response(), 9000);
     }
 }

@@ -76,11 +76,12 @@ pub struct Maps<'a> {
 /// Fixed-point factors of Eq. (7), set once per parameter set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LmScale {
-    /// `(gain·w)²` in Q8: weight of T4 (built from unweighted stored bytes).
-    pub t4_q8: i64,
-    /// `gain²` in Q8: weight of T5.
-    pub t5_q8: i64,
-    /// `8 + lm_shift`.
+    /// `(gain·w)²` in Q16: weight of T4 (built from unweighted stored bytes). Q16 keeps a
+    /// small ON weight from rounding to 0 (Q8 would at `gain·w < 1/32`).
+    pub t4_q16: i64,
+    /// `gain²` in Q16: weight of T5.
+    pub t5_q16: i64,
+    /// `16 + lm_shift`.
     pub shift: u32,
     /// Connected neurons `n`.
     pub n: usize,
@@ -93,9 +94,9 @@ impl LmScale {
     pub fn new(p: &Params) -> Self {
         let gw = f32::from(p.gain) * p.w;
         LmScale {
-            t4_q8: (gw * gw * 256.0 + 0.5) as i64,
-            t5_q8: i64::from(p.gain) * i64::from(p.gain) * 256,
-            shift: 8 + u32::from(p.lm_shift),
+            t4_q16: (gw * gw * 65536.0 + 0.5) as i64,
+            t5_q16: i64::from(p.gain) * i64::from(p.gain) * 65536,
+            shift: 16 + u32::from(p.lm_shift),
             n: usize::from(p.n),
             s: usize::from(p.s),
         }
@@ -157,7 +158,7 @@ pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) 
         t4 += i32::from(m.on[qi]) * on_dp - i32::from(m.on_d[qi]) * on_p;
         t5 += i32::from(m.off[qi]) * off_dp - i32::from(m.off_d[qi]) * off_p;
     }
-    let lm = (sc.t4_q8 * i64::from(t4) + sc.t5_q8 * i64::from(t5)) >> sc.shift;
+    let lm = (sc.t4_q16 * i64::from(t4) + sc.t5_q16 * i64::from(t5)) >> sc.shift;
     lm.clamp(0, i64::from(u32::MAX)) as u32
 }
 
@@ -262,8 +263,8 @@ mod tests {
         let p = Params::default();
         let sc = LmScale::new(&p);
         assert_eq!(
-            (sc.t4_q8, sc.t5_q8, sc.shift),
-            (256, 4096, 8 + u32::from(p.lm_shift))
+            (sc.t4_q16, sc.t5_q16, sc.shift),
+            (65536, 16 * 65536, 16 + u32::from(p.lm_shift))
         );
         let now = bar(41, 30, true);
         let del = bar(40, 30, true);
@@ -322,7 +323,8 @@ mod tests {
                     for d in Direction::ALL {
                         let t4 = correlate(m.on, m.on_d, x, y, d, sc.n, sc.s);
                         let t5 = correlate(m.off, m.off_d, x, y, d, sc.n, sc.s);
-                        let lm = (sc.t4_q8 * i64::from(t4) + sc.t5_q8 * i64::from(t5)) >> sc.shift;
+                        let lm =
+                            (sc.t4_q16 * i64::from(t4) + sc.t5_q16 * i64::from(t5)) >> sc.shift;
                         let want = lm.clamp(0, i64::from(u32::MAX)) as u32;
                         assert_eq!(
                             local_motion(&m, &sc, x, y, d),

@@ -25,13 +25,13 @@ pub const MAX_AFS: usize = 6;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct AfReport {
     /// Field identifier, stable while the field lives.
-    pub id: u16,
+    pub id: u32,
     /// Centroid column `x̄_k`.
     pub x: u8,
     /// Centroid row `ȳ_k`.
     pub y: u8,
     /// Frames the field has lived.
-    pub age: u16,
+    pub age: u32,
     /// `Q1..Q4`, Eq. (8).
     pub quadrants: [u32; 4],
     /// `LPLC2_k(t)`, Eq. (9).
@@ -198,7 +198,7 @@ impl Network {
             &mut lplc,
         );
         // (id, result) of every field alive during this frame, before Eq. (10) retires some
-        let results: heapless::Vec<(u16, Lplc2), MAX_AFS> = self
+        let results: heapless::Vec<(u32, Lplc2), MAX_AFS> = self
             .fields
             .iter()
             .zip(lplc.iter())
@@ -236,13 +236,18 @@ fn delay_q8(p: &Params) -> i32 {
     (256.0 / p.c_d + 0.5) as i32
 }
 
-/// First-order low-pass delay line: `D ← D + (L − D)/C_d`, rounded to nearest. With `C_d = 1`
+/// First-order low-pass delay line: `D ← D + (L − D)/C_d`, rounded to nearest but moving at
+/// least one grey level while `D ≠ L` (8-bit rounding would otherwise leave `D` stuck up to
+/// `C_d/2` levels off a steady input: a ghost the correlators would see). With `C_d = 1`
 /// it copies `L`: the pure one-frame delay of the paper's Eq. (6); larger `C_d` delays by `C_d`
 /// frames on average, tuning the correlators to slower motion at no extra memory.
 pub fn delay(d: &mut [u8; PIXELS], l: &[u8; PIXELS], gain_q8: i32) {
     for (d, &l) in d.iter_mut().zip(l.iter()) {
         let diff = i32::from(l) - i32::from(*d);
-        *d = (i32::from(*d) + ((diff * gain_q8 + 128) >> 8)).clamp(0, 255) as u8;
+        // at least one grey level towards the input, so D never sticks short of a steady L
+        let step = ((diff * gain_q8 + 128) >> 8).clamp(-diff.abs(), diff.abs());
+        let step = if step == 0 { diff.signum() } else { step };
+        *d = (i32::from(*d) + step).clamp(0, 255) as u8;
     }
 }
 
@@ -280,6 +285,19 @@ mod tests {
         let mut d = [255u8; PIXELS];
         delay(&mut d, &[0; PIXELS], 16);
         assert_eq!(d[0], 239, "falls by (255·16 − 128)/256 rounded");
+        // small differences still converge: no ghost left in the delayed map
+        for gain in [128, 16] {
+            let mut d = [9u8; PIXELS];
+            for _ in 0..40 {
+                delay(&mut d, &[0; PIXELS], gain);
+            }
+            assert_eq!(d[0], 0, "gain {gain}");
+            let mut d = [0u8; PIXELS];
+            for _ in 0..200 {
+                delay(&mut d, &[200; PIXELS], gain);
+            }
+            assert_eq!(d[0], 200, "gain {gain}");
+        }
     }
 
     #[test]

@@ -76,7 +76,7 @@ impl Params {
         lm_shift: 8,
         r_c: 36,
         c_frac: 50,
-        q_floor: 300,
+        q_floor: 250,
         q_balance: 15,
     };
 
@@ -167,7 +167,7 @@ impl Default for Params {
 }
 
 /// Why a parameter value was refused.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ParamError {
     /// No parameter has that name (see [`Params::NAMES`]).
     Unknown,
@@ -175,6 +175,15 @@ pub enum ParamError {
     NotANumber {
         /// Parameter name.
         name: &'static str,
+    },
+    /// A real value is not finite or outside the range the model supports.
+    OutOfRangeReal {
+        /// Parameter name.
+        name: &'static str,
+        /// Smallest allowed value.
+        min: f32,
+        /// Largest allowed value.
+        max: f32,
     },
     /// The value is outside the range the model supports.
     OutOfRange {
@@ -194,6 +203,12 @@ impl core::fmt::Display for ParamError {
             ParamError::NotANumber { name } => write!(f, "parameter {name}: not a number"),
             ParamError::OutOfRange { name, min, max } => {
                 write!(f, "parameter {name} must lie in {min}..={max}")
+            }
+            ParamError::OutOfRangeReal { name, min, max } => {
+                write!(
+                    f,
+                    "parameter {name} must be a finite number in [{min}, {max}]"
+                )
             }
         }
     }
@@ -228,11 +243,7 @@ fn check_f32(name: &'static str, v: f32, min: f32, max: f32) -> Result<(), Param
     if v.is_finite() && v >= min && v <= max {
         Ok(())
     } else {
-        Err(ParamError::OutOfRange {
-            name,
-            min: min as i64,
-            max: max as i64,
-        })
+        Err(ParamError::OutOfRangeReal { name, min, max })
     }
 }
 
@@ -259,10 +270,20 @@ mod tests {
             p.set("n", "0"),
             Err(ParamError::OutOfRange { name: "n", .. })
         ));
-        assert!(matches!(
+        assert_eq!(
             p.set("w", "NaN"),
-            Err(ParamError::OutOfRange { name: "w", .. })
-        ));
+            Err(ParamError::OutOfRangeReal {
+                name: "w",
+                min: 0.0,
+                max: 4.0
+            })
+        );
+        let e = Params::default().set("w_s", "0").unwrap_err();
+        extern crate std;
+        assert_eq!(
+            std::format!("{e}"),
+            "parameter w_s must be a finite number in [0.001, 1000000000]"
+        );
         // n * s may not exceed the correlator reach
         assert!(matches!(
             p.set("s", "3"),
