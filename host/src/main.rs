@@ -98,6 +98,15 @@ impl ModelArgs {
 fn main() -> ExitCode {
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
+        // a closed pipe (`alvs replay clip.y8 | head`) is the reader's choice, not an error
+        Err(e)
+            if e.chain().any(|c| {
+                c.downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            }) =>
+        {
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             eprintln!("alvs: error: {e:#}");
             ExitCode::FAILURE
@@ -121,8 +130,9 @@ fn run(cli: Cli) -> Result<()> {
                 .as_deref()
                 .map(|d| (d, a.frames.as_slice(), name.as_str()));
             replay::run(&frames, params, a.model.behaviour(), png, |j| {
-                serde_json::to_writer(&mut out, j)?;
-                out.write_all(b"\n")?;
+                let mut line = serde_json::to_vec(j)?;
+                line.push(b'\n');
+                out.write_all(&line)?;
                 Ok(())
             })?;
             out.flush()?;
@@ -133,10 +143,12 @@ fn run(cli: Cli) -> Result<()> {
         }
         Cmd::Demo { png, model } => {
             let params = model.params()?;
-            println!(
+            let mut out = std::io::stdout().lock();
+            writeln!(
+                out,
                 "{:<18} {:>7} {:>6} {:>6} {:>8} {:>7}  first alert",
                 "scene", "looming", "frames", "alerts", "max AFs", "mean X"
-            );
+            )?;
             for s in scenes::demo_scenes() {
                 let frames = s.frames();
                 let recs = replay::run(
@@ -147,21 +159,26 @@ fn run(cli: Cli) -> Result<()> {
                     |_| Ok(()),
                 )?;
                 let alerts: Vec<&replay::FrameJson> = recs.iter().filter(|r| r.alert).collect();
-                let mean_x = alerts.iter().filter_map(|r| r.threat_x).sum::<f32>()
-                    / alerts.len().max(1) as f32;
+                let xs: Vec<f32> = alerts.iter().filter_map(|r| r.threat_x).collect();
+                let mean_x = if xs.is_empty() {
+                    "-".to_string()
+                } else {
+                    format!("{:.1}", xs.iter().sum::<f32>() / xs.len() as f32)
+                };
                 let max_afs = recs.iter().map(|r| r.afs.len()).max().unwrap_or(0);
                 let first = alerts.first().map_or("-".into(), |r| r.frame.to_string());
-                println!(
-                    "{:<18} {:>7} {:>6} {:>6} {:>8} {:>7.1}  {first}",
+                writeln!(
+                    out,
+                    "{:<18} {:>7} {:>6} {:>6} {:>8} {:>7}  {first}",
                     s.name,
                     s.looming,
                     recs.len(),
                     alerts.len(),
                     max_afs,
                     mean_x
-                );
+                )?;
             }
-            println!("pictures in {}", png.display());
+            writeln!(out, "pictures in {}", png.display())?;
             Ok(())
         }
     }
