@@ -142,3 +142,32 @@ fn bad_input_is_one_clear_line_and_a_failure() {
         assert!(out.stdout.is_empty());
     }
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_replay_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let d = tmp("pipe");
+    // long enough that the output outgrows the pipe buffer after the reader has gone
+    let frames: Vec<_> = (0..40).flat_map(|_| demo_scenes()[0].frames()).collect();
+    std::fs::write(d.join("long.y8"), frames.concat()).unwrap();
+    let mut child = alvs()
+        .arg("replay")
+        .arg(d.join("long.y8"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert!(first.starts_with("{\"frame\":0"), "{first}");
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && !err.contains("panicked"),
+        "{:?} {err}",
+        out.status
+    );
+}
