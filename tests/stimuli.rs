@@ -71,12 +71,26 @@ fn side(r: &FrameJson) -> char {
     }
 }
 
+/// Writes a table line to the process's stderr directly: the test harness captures `println!`,
+/// and the per-clip table is meant to be read in every CI log.
+macro_rules! table {
+    ($($arg:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 #[test]
 fn clips_behave_as_the_manifest_says() {
     let Some(runs) = run_all() else { return };
-    println!(
+    table!(
         "{:<40} {:>7} {:>6} {:>6} {:>5} {:>7}  timeline (R/L alert side, S short mode)",
-        "clip", "looming", "frames", "alerts", "AFs", "max sum"
+        "clip",
+        "looming",
+        "frames",
+        "alerts",
+        "AFs",
+        "max sum"
     );
     let mut failures = Vec::new();
     for r in &runs {
@@ -95,7 +109,7 @@ fn clips_behave_as_the_manifest_says() {
             })
             .collect();
         let max_sum = r.recs.iter().map(|j| j.lplc2_sum).max().unwrap_or(0);
-        println!(
+        table!(
             "{:<40} {:>7} {:>6} {:>6} {:>5} {:>7}  {timeline}",
             r.name,
             r.looming,

@@ -244,10 +244,11 @@ fn delay_q8(p: &Params) -> i32 {
 pub fn delay(d: &mut [u8; PIXELS], l: &[u8; PIXELS], gain_q8: i32) {
     for (d, &l) in d.iter_mut().zip(l.iter()) {
         let diff = i32::from(l) - i32::from(*d);
-        // at least one grey level towards the input, so D never sticks short of a steady L
-        let step = ((diff * gain_q8 + 128) >> 8).clamp(-diff.abs(), diff.abs());
+        // |step| ≤ |diff| for gain ≤ 256 (C_d ≥ 1), so D never overshoots L nor leaves 0..=255;
+        // and at least one grey level towards L, so D never sticks short of a steady input
+        let step = (diff * gain_q8 + 128) >> 8;
         let step = if step == 0 { diff.signum() } else { step };
-        *d = (i32::from(*d) + step).clamp(0, 255) as u8;
+        *d = (i32::from(*d) + step) as u8;
     }
 }
 
