@@ -1,22 +1,26 @@
 //! # alvs-firmware: RTIC 2 firmware for the Colias sense board (STM32F427VI)
 //!
-//! This first firmware only brings the board up:
+//! This firmware so far only brings the board up:
 //!
 //! - configures the clocks (25 MHz HSE -> 180 MHz SYSCLK, see [`board`]);
 //! - sets up RTT with two up channels, 0 "log" (text; also where panic messages go) and
 //!   1 "telemetry" (reserved: nothing is written to it yet);
-//! - prints a boot banner with the crate version, the clocks actually achieved and the Table I
-//!   thresholds of `alvs_tasks::Params::default()` (which proves the model crate links);
+//! - prints a boot banner with the crate version and the clocks actually achieved;
+//! - starts the camera's XCLK and configures the OV7670 over SCCB ([`camera`]), then reports
+//!   its id or a clear `ERROR camera: ...` line; the firmware runs on without a camera;
+//! - prints the Table I thresholds of `alvs_tasks::Params::default()` (which proves the model
+//!   crate links);
 //! - then sleeps in `idle`.
 //!
-//! It does **not** yet drive the camera (DCMI/DMA), run the aLPLC2 network, send telemetry or
-//! drive the motors: those come with a later issue.
+//! It does **not** yet capture frames (DCMI/DMA), run the aLPLC2 network, send telemetry or
+//! drive the motors: those come later.
 //!
 //! Flash and watch the log with `cargo embed --release` (see `Embed.toml`).
 #![no_std]
 #![no_main]
 
 mod board;
+mod camera;
 
 // A panic prints its message over RTT (the print channel, up channel 0 "log"; lost if it happens
 // before `rtt_init!` in `init`), then executes `udf`: the core ends in cortex-m-rt's default
@@ -29,7 +33,7 @@ use panic_probe as _;
 // the bottom-board link and the IMU are wired up.
 #[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [SPI5, SPI6])]
 mod app {
-    use crate::board;
+    use crate::{board, camera};
     use rtt_target::{rprintln, rtt_init, set_print_channel, UpChannel};
     use stm32f4xx_hal::{prelude::*, rcc::Config};
 
@@ -41,6 +45,9 @@ mod app {
         /// RTT up channel 1 "telemetry". Held (by `idle`) so that the channel stays usable;
         /// the telemetry task of a later issue takes it over. Nothing writes to it yet.
         telemetry: UpChannel,
+        /// The camera (XCLK pin and SCCB bus), configured or not. Held (by `idle`) for the
+        /// capture work to come (and a retry of `init` if the fault policy wants one).
+        camera: camera::Camera,
     }
 
     #[init]
@@ -77,7 +84,7 @@ mod app {
 
         // `freeze` sets the PLL, the flash wait states and the regulator over-drive, and panics
         // if the request is out of range.
-        let rcc = cx.device.RCC.freeze(
+        let mut rcc = cx.device.RCC.freeze(
             Config::hse(board::HSE_HZ.Hz())
                 .sysclk(board::SYSCLK_HZ.Hz())
                 .pclk1(board::PCLK1_HZ.Hz())
@@ -114,18 +121,38 @@ mod app {
         {
             rprintln!("WARNING: clocks differ from the requested ones (src/board.rs)");
         }
+
+        // Camera: XCLK, then sensor reset, id check and register table over SCCB. A failure is
+        // reported and the firmware runs on (the fault policy comes with the capture work).
+        // `split` resets its port, so each port is split once, here; the other pins of GPIOA and
+        // GPIOE (DCMI among them) stay in `gpioa`/`gpioe` for the capture work.
+        let gpioa = cx.device.GPIOA.split(&mut rcc);
+        let gpioe = cx.device.GPIOE.split(&mut rcc);
+        let pins = camera::Pins {
+            xclk: gpioa.pa8,
+            sda: gpioe.pe2,
+            scl: gpioe.pe3,
+        };
+        let mut camera = camera::Camera::new(pins, &rcc, clocks.sysclk().raw());
+        match camera.init() {
+            Ok(info) => rprintln!("camera: {}", info),
+            Err(error) => rprintln!("ERROR camera: {}", error),
+        }
         rprintln!(
             "model: alvs-tasks Params::default() Table I: T_a = {}, T_d = {}, T_s = {}",
             params.t_a,
             params.t_d,
             params.t_s
         );
-        rprintln!("bring-up firmware: no camera, no network, no telemetry, no motors yet; idling");
+        rprintln!(
+            "bring-up firmware: camera set-up only (no DCMI capture yet), no network, no telemetry, no motors yet; idling"
+        );
 
         (
             Shared {},
             Local {
                 telemetry: channels.up.1,
+                camera,
             },
         )
     }
@@ -135,7 +162,7 @@ mod app {
     /// `init` set DBG_SLEEP (see there); not yet checked on a board. Should the probe still lose
     /// the target or RTT, replace `wfi` with `cortex_m::asm::nop()` to keep the core awake (more
     /// power, same behaviour).
-    #[idle(local = [telemetry])]
+    #[idle(local = [telemetry, camera])]
     fn idle(_cx: idle::Context) -> ! {
         loop {
             cortex_m::asm::wfi();
