@@ -19,15 +19,26 @@
 //! | strength, threat centroid, escape angles | [`visuomotor`] | Eqs. (11)–(15) |
 //! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
 //! | telemetry records | [`telemetry`] | — |
+//!
+//! The firmware's logic that is not a register access, tested on the host:
+//!
+//! | concern | module |
+//! |---|---|
+//! | luminance from YUV422, frame hand-off camera → perception | [`camera`] |
+//! | bottom-board UART protocol, wheel powers | [`motor`] |
+//! | 1 Hz summary statistics, safety and watchdog policy | [`health`] |
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod attention;
+pub mod camera;
 pub mod frame;
 pub mod fsm;
+pub mod health;
 pub mod hrc;
 pub mod lplc2;
+pub mod motor;
 pub mod network;
 pub mod params;
 pub mod retina;
