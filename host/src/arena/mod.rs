@@ -1,0 +1,37 @@
+//! The software-in-the-loop arena: simulated Colias robots whose cameras see a rendered arena,
+//! so that the firmware's own task code (`alvs_tasks`) can drive them in closed loop.
+//!
+//! | concern | module |
+//! |---|---|
+//! | arena, walls, textures, robot bodies, poses and the frame convention | [`world`] |
+//! | wall textures as mip-mapped look-up tables | [`texture`] |
+//! | each robot's front camera (99x72, 70°, pinhole), noise | [`render`] |
+//! | top-down pictures for trajectory plots | [`topdown`] |
+//! | differential drive, motor lag and noise, time steps | [`kinematics`] |
+//! | simulated gyro behind `HeadingEstimator` | [`gyro`] |
+//! | overlap resolution, collision and encounter counting | [`contacts`] |
+//! | all robots stepped together | [`physics`] |
+//! | seeded random numbers | [`rng`] |
+//!
+//! A closed-loop frame of robot `i` is: `Camera::capture` its frame from `Physics::poses`, run
+//! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
+//! `Physics::command(i, &cmd)`; once every robot has its command, `Physics::step_frame`.
+
+pub mod contacts;
+pub mod gyro;
+pub mod kinematics;
+pub mod physics;
+pub mod render;
+pub mod rng;
+pub mod texture;
+pub mod topdown;
+pub mod world;
+
+pub use contacts::{ContactCounts, ContactEvent, ContactTracker, EventKind, Other, Tally};
+pub use gyro::{GyroParams, SimGyro};
+pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
+pub use physics::Physics;
+pub use render::{Camera, Renderer, SensorNoise};
+pub use rng::Rng;
+pub use topdown::TopDown;
+pub use world::{Arena, GreyImage, Pose, RobotPattern, WallTexture, World};

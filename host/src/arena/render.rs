@@ -1,0 +1,536 @@
+//! Each robot's front camera: a 99x72 grey [`Frame`] of the arena rendered by per-column ray
+//! casting, the same frames the firmware's camera task hands to the model.
+//!
+//! # Camera model
+//!
+//! A pinhole camera [`CAMERA_FORWARD_MM`] ahead of the body's centre and [`CAMERA_HEIGHT_MM`]
+//! above the floor, looking along the heading, optical axis level. Pixels are square; column
+//! `c` (0 = left) and row `y` (0 = top) are centred on the image points `c` and `y`, the axis
+//! passes through ([`CENTRE_COLUMN`], [`CENTRE_ROW`]) = (49, 35.5). The focal length
+//! [`FOCAL_PX`] = 49 / tan 35° puts the centres of the outermost columns at ±35°: a 70°
+//! horizontal field (HARDWARE.md; ≈ 54° vertically). A point at bearing β (positive = right) and
+//! height `z` at axial depth `s` (distance along the optical axis) is imaged at
+//!
+//! ```text
+//! column = 49 + f · tan β          row = 35.5 − f · (z − CAMERA_HEIGHT_MM) / s
+//! ```
+//!
+//! which is what [`column_of_bearing`] computes. Each column casts one ray through its centre;
+//! along it the parameter is the axial depth, so the vertical extent of whatever the ray hits
+//! comes straight from the formula above (a wall seen square-on is a horizontal band, no
+//! fish-eye). Edges are anti-aliased: robots cover the columns between their silhouette
+//! tangents with exact fractional coverage, and every vertical boundary (wall top, wall base,
+//! robot top and bottom) covers its row fractionally, so sub-pixel motion changes the picture
+//! smoothly instead of in whole-pixel jumps.
+//!
+//! # What is drawn
+//!
+//! Above the walls the bright lab ([`SKY_GREY`]); the walls with their texture
+//! ([`super::texture`]), each side slightly differently lit ([`WALL_SIDE_SHADE`]) so corners
+//! show; the floor as a grey gradient by distance ([`FLOOR_NEAR_GREY`] → [`FLOOR_FAR_GREY`],
+//! static in the image since it has no texture); robots as cylinders with their
+//! [`RobotPattern`], Lambert-shaded (`AMBIENT + (1 − AMBIENT) cos i`, so their flanks are
+//! darker), drawn far to near per column so nearer robots occlude farther ones. The viewer's own
+//! body is behind its camera. Then, optionally, a global gain (per-frame flicker) and additive
+//! pixel noise ([`SensorNoise`]), from the camera's own seeded stream.
+//!
+//! # Cost
+//!
+//! Nothing is allocated per frame (the per-frame lists live in the [`Camera`] and keep their
+//! capacity); ray directions per column, the floor per row and the wall texture pyramid are
+//! precomputed by [`Renderer::new`].
+
+use alvs_tasks::{Frame, HEIGHT, PIXELS, WIDTH};
+
+use crate::canvas::Canvas;
+
+use super::rng::Rng;
+use super::texture::WallMap;
+use super::world::{Arena, Pose, RobotPattern, World, ROBOT_HEIGHT_MM, ROBOT_RADIUS_MM};
+
+/// Height of the camera's optical axis above the floor, mm: the lens sits on the sense board,
+/// a few mm below the top of the 28 mm body.
+pub const CAMERA_HEIGHT_MM: f64 = 20.0;
+/// Distance of the camera ahead of the body's centre, mm: 2 mm behind the front of the shell,
+/// so that the camera stays outside any other body and in front of walls the body touches.
+pub const CAMERA_FORWARD_MM: f64 = ROBOT_RADIUS_MM - 2.0;
+/// Horizontal field of view between the centres of the outermost columns, degrees.
+pub const HFOV_DEG: f64 = 70.0;
+/// Focal length in pixels, `49 / tan 35°`.
+pub const FOCAL_PX: f64 = 69.979_252_330_363_62;
+/// Image column of the optical axis.
+pub const CENTRE_COLUMN: f64 = 49.0;
+/// Image row of the optical axis (between rows 35 and 36).
+pub const CENTRE_ROW: f64 = 35.5;
+
+/// Grey of what is seen above the walls (a bright lab ceiling).
+pub const SKY_GREY: f32 = 215.0;
+/// Grey of the floor just in front of the camera.
+pub const FLOOR_NEAR_GREY: f32 = 95.0;
+/// Grey the floor tends to far away (grazing view).
+pub const FLOOR_FAR_GREY: f32 = 150.0;
+/// Distance over which the floor brightens from near to far grey, mm (exponential).
+pub const FLOOR_FADE_MM: f32 = 300.0;
+/// Brightness of the walls at `y = 0`, `x = size_x`, `y = size_y`, `x = 0` (light from one side).
+pub const WALL_SIDE_SHADE: [f32; 4] = [1.0, 0.92, 0.84, 0.92];
+/// Ambient share of a robot's Lambert shading.
+pub const ROBOT_AMBIENT: f32 = 0.55;
+
+/// The image column at which a point at `bearing_deg` (positive = right) appears:
+/// `49 + f·tan β` (pinhole model).
+pub fn column_of_bearing(bearing_deg: f64) -> f64 {
+    CENTRE_COLUMN + FOCAL_PX * bearing_deg.to_radians().tan()
+}
+
+/// The bearing of image column `column` (inverse of [`column_of_bearing`]), degrees.
+pub fn bearing_of_column(column: f64) -> f64 {
+    ((column - CENTRE_COLUMN) / FOCAL_PX).atan().to_degrees()
+}
+
+/// The image row at which a point `height_mm` above the floor at axial depth `depth_mm`
+/// appears.
+pub fn row_of_height(height_mm: f64, depth_mm: f64) -> f64 {
+    CENTRE_ROW - FOCAL_PX * (height_mm - CAMERA_HEIGHT_MM) / depth_mm
+}
+
+/// A frame as a grey picture, each pixel `scale` x `scale` canvas pixels (0 counts as 1).
+pub fn frame_canvas(frame: &Frame, scale: usize) -> Canvas {
+    let k = scale.max(1);
+    let mut c = Canvas::new(WIDTH * k, HEIGHT * k, [0; 3]);
+    for (i, px) in c.pixels.iter_mut().enumerate() {
+        let (x, y) = ((i % (WIDTH * k)) / k, i / (WIDTH * k) / k);
+        *px = [frame[y * WIDTH + x]; 3];
+    }
+    c
+}
+
+/// Sensor imperfections of a [`Camera`]. Both zero (the default) gives the ideal camera.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SensorNoise {
+    /// Standard deviation of the additive pixel noise, grey levels (independent per pixel and
+    /// frame).
+    pub pixel_sigma: f32,
+    /// Standard deviation of the global gain, relative (one draw per frame: automatic gain
+    /// control and lighting flicker).
+    pub gain_sigma: f32,
+}
+
+impl SensorNoise {
+    /// Plausible OV7670 figures in a lit lab: 2 grey levels of pixel noise, 2 % gain flicker.
+    pub fn typical() -> Self {
+        SensorNoise {
+            pixel_sigma: 2.0,
+            gain_sigma: 0.02,
+        }
+    }
+}
+
+/// Everything about a world the cameras need, precomputed (textures as look-up tables, ray
+/// directions, floor shading). Immutable: one renderer serves every camera.
+#[derive(Debug, Clone)]
+pub struct Renderer {
+    arena: Arena,
+    wall_h: f32,
+    map: WallMap,
+    pattern: RobotPattern,
+    /// `tan β` of each column's ray.
+    col_tan: [f32; WIDTH],
+    /// Floor grey of each row.
+    floor: [f32; HEIGHT],
+}
+
+/// Another robot as one camera sees it this frame.
+#[derive(Debug, Clone, Copy)]
+struct View {
+    /// Camera minus the robot's centre, mm (world axes).
+    qx: f32,
+    qy: f32,
+    /// |q|² − R².
+    c: f32,
+    heading_rad: f32,
+    /// Columns of the silhouette's left and right tangents.
+    c_l: f32,
+    c_r: f32,
+}
+
+/// A robot in one column.
+#[derive(Debug, Clone, Copy)]
+struct Hit {
+    /// Axial depth, mm.
+    s: f32,
+    /// Horizontal coverage of the pixel column, 0..=1.
+    cov: f32,
+    /// Grey before the vertical pattern (Lambert shade times stripes), or the shade alone for a
+    /// banded body.
+    grey: f32,
+    shade: f32,
+}
+
+/// One robot's camera: its noise and its reusable per-frame lists.
+#[derive(Debug, Clone)]
+pub struct Camera {
+    noise: SensorNoise,
+    rng: Rng,
+    views: Vec<View>,
+    hits: Vec<Hit>,
+}
+
+impl Camera {
+    /// A camera with `noise`, drawing from the stream `seed`.
+    pub fn new(noise: SensorNoise, seed: u64) -> Self {
+        Camera {
+            noise,
+            rng: Rng::new(seed),
+            views: Vec::new(),
+            hits: Vec::new(),
+        }
+    }
+
+    /// The ideal camera: no noise, no flicker.
+    pub fn ideal() -> Self {
+        Camera::new(SensorNoise::default(), 0)
+    }
+
+    /// The camera's noise settings.
+    pub fn noise(&self) -> SensorNoise {
+        self.noise
+    }
+
+    /// Renders what the camera of `bodies[viewer]` sees, with this camera's noise, into
+    /// `frame`. Every other body is drawn as a robot. Allocation-free once the camera has seen
+    /// as many robots as `bodies` holds. Panics if `viewer` is not an index of `bodies`.
+    pub fn capture(
+        &mut self,
+        renderer: &Renderer,
+        bodies: &[Pose],
+        viewer: usize,
+        frame: &mut Frame,
+    ) {
+        let gain = if self.noise.gain_sigma > 0.0 {
+            (1.0 + self.noise.gain_sigma * self.rng.normal()).max(0.0)
+        } else {
+            1.0
+        };
+        let noise = (self.noise.pixel_sigma > 0.0).then_some(self.noise.pixel_sigma);
+        renderer.draw(
+            bodies,
+            viewer,
+            &mut self.views,
+            &mut self.hits,
+            gain,
+            noise.map(|s| (s, &mut self.rng)),
+            frame,
+        );
+    }
+}
+
+impl Renderer {
+    /// Precomputes `world` for rendering (a few ms: the texture pyramid).
+    pub fn new(world: &World) -> Self {
+        let f = FOCAL_PX as f32;
+        let col_tan = std::array::from_fn(|c| (c as f32 - CENTRE_COLUMN as f32) / f);
+        let floor = std::array::from_fn(|y| {
+            let below = y as f32 - CENTRE_ROW as f32;
+            if below <= 0.0 {
+                FLOOR_FAR_GREY
+            } else {
+                let s = f * CAMERA_HEIGHT_MM as f32 / below;
+                FLOOR_FAR_GREY + (FLOOR_NEAR_GREY - FLOOR_FAR_GREY) * (-s / FLOOR_FADE_MM).exp()
+            }
+        });
+        Renderer {
+            arena: world.arena,
+            wall_h: world.wall_height_mm as f32,
+            map: WallMap::new(world),
+            pattern: world.robot_pattern,
+            col_tan,
+            floor,
+        }
+    }
+
+    /// The arena rendered.
+    pub fn arena(&self) -> Arena {
+        self.arena
+    }
+
+    /// The wall texture pyramid.
+    pub fn wall_map(&self) -> &WallMap {
+        &self.map
+    }
+
+    /// The ideal camera's view from `bodies[viewer]` (convenience for tests and pictures; a
+    /// simulation keeps a [`Camera`] per robot instead).
+    pub fn render(&self, bodies: &[Pose], viewer: usize) -> Frame {
+        let mut frame = [0u8; PIXELS];
+        Camera::ideal().capture(self, bodies, viewer, &mut frame);
+        frame
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn draw(
+        &self,
+        bodies: &[Pose],
+        viewer: usize,
+        views: &mut Vec<View>,
+        hits: &mut Vec<Hit>,
+        gain: f32,
+        mut noise: Option<(f32, &mut Rng)>,
+        frame: &mut Frame,
+    ) {
+        let eye = bodies[viewer];
+        let (fx, fy) = eye.forward();
+        let (cx, cy) = eye.offset(CAMERA_FORWARD_MM, 0.0);
+        let (rx_, ry_) = (-fy, fx);
+        let f = FOCAL_PX as f32;
+        let ch = CAMERA_HEIGHT_MM as f32;
+        let r = ROBOT_RADIUS_MM as f32;
+        let centre_row = CENTRE_ROW as f32;
+
+        // The other robots' silhouettes.
+        views.clear();
+        for (j, b) in bodies.iter().enumerate() {
+            if j == viewer {
+                continue;
+            }
+            let (dx, dy) = (b.x_mm - cx, b.y_mm - cy);
+            let z = dx * fx + dy * fy;
+            let x = dx * rx_ + dy * ry_;
+            if z <= -ROBOT_RADIUS_MM {
+                continue;
+            }
+            let dist = x.hypot(z);
+            let delta = (ROBOT_RADIUS_MM / dist.max(1e-9)).min(1.0).asin();
+            let beta = x.atan2(z);
+            let (left, right) = (beta - delta, beta + delta);
+            const EDGE: f64 = std::f64::consts::FRAC_PI_2 - 1e-4;
+            if left >= EDGE || right <= -EDGE {
+                continue;
+            }
+            let col = |a: f64| {
+                if a <= -EDGE {
+                    -1e9
+                } else if a >= EDGE {
+                    1e9
+                } else {
+                    CENTRE_COLUMN + FOCAL_PX * a.tan()
+                }
+            };
+            let (c_l, c_r) = (col(left), col(right));
+            if c_r <= -0.5 || c_l >= WIDTH as f64 - 0.5 {
+                continue;
+            }
+            views.push(View {
+                qx: -dx as f32,
+                qy: -dy as f32,
+                c: (dist * dist - ROBOT_RADIUS_MM * ROBOT_RADIUS_MM) as f32,
+                heading_rad: b.heading_deg.to_radians() as f32,
+                c_l: c_l as f32,
+                c_r: c_r as f32,
+            });
+        }
+
+        let (fx, fy, rx_, ry_) = (fx as f32, fy as f32, rx_ as f32, ry_ as f32);
+        let (cx, cy) = (cx as f32, cy as f32);
+        let (sx, sy) = (self.arena.size_x_mm as f32, self.arena.size_y_mm as f32);
+        let mut col = [0f32; HEIGHT];
+        for c in 0..WIDTH {
+            let t = self.col_tan[c];
+            let (rx, ry) = (fx + t * rx_, fy + t * ry_);
+            let rr = 1.0 + t * t;
+
+            // The wall this column's ray meets first.
+            let (wx, sxh) = if rx > 1e-9 {
+                (sx, (sx - cx) / rx)
+            } else if rx < -1e-9 {
+                (0.0, -cx / rx)
+            } else {
+                (0.0, f32::INFINITY)
+            };
+            let (wy, syh) = if ry > 1e-9 {
+                (sy, (sy - cy) / ry)
+            } else if ry < -1e-9 {
+                (0.0, -cy / ry)
+            } else {
+                (0.0, f32::INFINITY)
+            };
+            let (s, u, side, normal) = if sxh <= syh {
+                let hy = (cy + sxh * ry).clamp(0.0, sy);
+                if wx > 0.0 {
+                    (sxh, sx + hy, 1, rx)
+                } else {
+                    (sxh, 2.0 * sx + sy + (sy - hy), 3, rx)
+                }
+            } else {
+                let hx = (cx + syh * rx).clamp(0.0, sx);
+                if wy > 0.0 {
+                    (syh, sx + sy + (sx - hx), 2, ry)
+                } else {
+                    (syh, hx, 0, ry)
+                }
+            };
+            let s = s.clamp(0.05, 1e7);
+            let fp_v = s / f;
+            let footprint = fp_v.max(fp_v / normal.abs().max(1e-3));
+            let sampler = self.map.sampler(u, footprint);
+            let shade = WALL_SIDE_SHADE[side];
+
+            // Sky, wall, floor: rows [0, a) sky, (a, b) wall, (b, HEIGHT) floor; rows a and b
+            // are shared.
+            let y_top = centre_row - f * (self.wall_h - ch) / s;
+            let y_base = centre_row + f * ch / s;
+            let row_of = |yy: f32| ((yy + 0.5).floor().clamp(-1.0, HEIGHT as f32)) as i32;
+            let (a, b) = (row_of(y_top), row_of(y_base));
+            let wall_at = |y: usize| {
+                let v = (ch + (centre_row - y as f32) * fp_v).clamp(0.0, self.wall_h);
+                shade * sampler.at(v)
+            };
+            let mixed = |y: usize| {
+                let (lo, hi) = (y as f32 - 0.5, y as f32 + 0.5);
+                let sky = (y_top - lo).clamp(0.0, 1.0);
+                let fl = (hi - y_base).clamp(0.0, 1.0);
+                let wall = (1.0 - sky - fl).max(0.0);
+                let mut g = sky * SKY_GREY + fl * self.floor[y];
+                if wall > 0.0 {
+                    g += wall * wall_at(y);
+                }
+                g
+            };
+            let a_cl = a.clamp(0, HEIGHT as i32) as usize;
+            let b_cl = b.clamp(-1, HEIGHT as i32 - 1);
+            col[..a_cl].fill(SKY_GREY);
+            if a_cl < HEIGHT {
+                col[a_cl] = mixed(a_cl);
+            }
+            let first_wall = a_cl + 1;
+            let last_wall = b_cl.max(0) as usize; // exclusive
+            if first_wall < last_wall {
+                let v = ch + (centre_row - first_wall as f32) * fp_v;
+                sampler.fill(&mut col[first_wall..last_wall], v, fp_v, shade);
+            }
+            if b_cl >= 0 && b_cl as usize != a_cl {
+                col[b_cl as usize] = mixed(b_cl as usize);
+            }
+            let floor_from = (b_cl + 1).max(a_cl as i32 + 1).max(0) as usize;
+            if floor_from < HEIGHT {
+                col[floor_from..].copy_from_slice(&self.floor[floor_from..]);
+            }
+
+            // Robots in this column, far to near.
+            hits.clear();
+            let (lo, hi) = (c as f32 - 0.5, c as f32 + 0.5);
+            for v in views.iter() {
+                let cov = hi.min(v.c_r) - lo.max(v.c_l);
+                if cov <= 0.0 {
+                    continue;
+                }
+                let bq = rx * v.qx + ry * v.qy;
+                let disc = bq * bq - rr * v.c;
+                let s = if disc >= 0.0 {
+                    (-bq - disc.sqrt()) / rr
+                } else {
+                    // The column's centre ray misses (edge column): closest approach.
+                    -bq / rr
+                };
+                let s = s.max(0.05);
+                let (nx, ny) = (v.qx + s * rx, v.qy + s * ry);
+                let n = (nx * nx + ny * ny).sqrt().max(1e-6);
+                let cos_i = (-(nx * rx + ny * ry) / (n * rr.sqrt())).clamp(0.0, 1.0);
+                let shade = ROBOT_AMBIENT + (1.0 - ROBOT_AMBIENT) * cos_i;
+                let grey = match self.pattern {
+                    RobotPattern::Stripes { count, dark, light } => {
+                        let (dark, light) = (f32::from(dark), f32::from(light));
+                        let k = f32::from(count);
+                        let phi = ny.atan2(nx) - v.heading_rad;
+                        // Phase advance of cos(kφ) per pixel: sharp square stripes up close,
+                        // fading to their mean when a pixel spans a stripe.
+                        let w = k * (s / f) / r / cos_i.max(0.15);
+                        let sharp = (std::f32::consts::FRAC_PI_2 / w.max(1e-3)).clamp(1.0, 12.0);
+                        let fade = (1.0 - w / std::f32::consts::PI).max(0.0);
+                        let g = ((k * phi).cos() * sharp).clamp(-1.0, 1.0) * fade;
+                        0.5 * (dark + light) + 0.5 * (light - dark) * g
+                    }
+                    RobotPattern::Band { .. } => 1.0,
+                };
+                hits.push(Hit {
+                    s,
+                    cov: cov.min(1.0),
+                    grey: shade * grey,
+                    shade,
+                });
+            }
+            if hits.len() > 1 {
+                hits.sort_unstable_by(|p, q| q.s.total_cmp(&p.s));
+            }
+            for h in hits.iter() {
+                let top = centre_row - f * (ROBOT_HEIGHT_MM as f32 - ch) / h.s;
+                let bot = centre_row + f * ch / h.s;
+                let y1 = (bot + 0.5).floor();
+                if y1 < 0.0 {
+                    continue;
+                }
+                let y0 = (top + 0.5).floor().max(0.0) as usize;
+                let y1 = (y1 as usize).min(HEIGHT - 1);
+                for (y, px) in col.iter_mut().enumerate().take(y1 + 1).skip(y0) {
+                    let cov_v = ((y as f32 + 0.5).min(bot) - (y as f32 - 0.5).max(top)).max(0.0);
+                    let alpha = h.cov * cov_v.min(1.0);
+                    let g = match self.pattern {
+                        RobotPattern::Stripes { .. } => h.grey,
+                        RobotPattern::Band {
+                            body,
+                            band,
+                            bottom_mm,
+                            top_mm,
+                        } => {
+                            let z = ch + (centre_row - y as f32) * h.s / f;
+                            let g = if (bottom_mm..=top_mm).contains(&z) {
+                                band
+                            } else {
+                                body
+                            };
+                            h.shade * f32::from(g)
+                        }
+                    };
+                    *px += alpha * (g - *px);
+                }
+            }
+
+            // Out, through the sensor.
+            match noise.as_mut() {
+                None if gain == 1.0 => {
+                    for (y, g) in col.iter().enumerate() {
+                        frame[y * WIDTH + c] = (g + 0.5).clamp(0.0, 255.0) as u8;
+                    }
+                }
+                None => {
+                    for (y, g) in col.iter().enumerate() {
+                        frame[y * WIDTH + c] = (g * gain + 0.5).clamp(0.0, 255.0) as u8;
+                    }
+                }
+                Some((sigma, rng)) => {
+                    // HEIGHT (72) is even: rows go in pairs.
+                    for (y, g) in col.chunks_exact(2).enumerate() {
+                        let (n0, n1) = rng.normal_pair();
+                        let v0 = g[0] * gain + *sigma * n0;
+                        let v1 = g[1] * gain + *sigma * n1;
+                        frame[2 * y * WIDTH + c] = (v0 + 0.5).clamp(0.0, 255.0) as u8;
+                        frame[(2 * y + 1) * WIDTH + c] = (v1 + 0.5).clamp(0.0, 255.0) as u8;
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn focal_length_puts_35_degrees_at_the_edge_columns() {
+        assert!((FOCAL_PX - 49.0 / 35f64.to_radians().tan()).abs() < 1e-6);
+        assert!((column_of_bearing(35.0) - 98.0).abs() < 1e-6);
+        assert!((column_of_bearing(-35.0) - 0.0).abs() < 1e-6);
+        assert!((bearing_of_column(column_of_bearing(12.5)) - 12.5).abs() < 1e-9);
+        assert_eq!(HFOV_DEG, 70.0);
+    }
+}
