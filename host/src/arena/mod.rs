@@ -12,26 +12,32 @@
 //! | overlap resolution, collision and encounter counting | [`contacts`] |
 //! | all robots stepped together | [`physics`] |
 //! | seeded random numbers | [`rng`] |
+//! | the controllers (ALVS, swarm, LGMD2, scripted) behind one trait | [`controller`] |
+//! | the closed loop: render, control, physics per camera frame | [`sim`] |
 //!
 //! A closed-loop frame of robot `i` is: `Camera::capture` its frame from `Physics::poses`, run
 //! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
 //! `Physics::command(i, &cmd)`; once every robot has its command, `Physics::step_frame`.
 
 pub mod contacts;
+pub mod controller;
 pub mod gyro;
 pub mod kinematics;
 pub mod physics;
 pub mod render;
 pub mod rng;
+pub mod sim;
 pub mod texture;
 pub mod topdown;
 pub mod world;
 
 pub use contacts::{ContactCounts, ContactEvent, ContactTracker, EventKind, Other, Tally};
+pub use controller::{Command, Controller, Kind};
 pub use gyro::{GyroParams, SimGyro};
 pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
 pub use physics::Physics;
 pub use render::{Camera, Renderer, SensorNoise};
 pub use rng::Rng;
+pub use sim::Sim;
 pub use topdown::TopDown;
 pub use world::{Arena, GreyImage, Pose, RobotPattern, WallTexture, World};

@@ -1,0 +1,235 @@
+//! The robot controllers the experiments swap with a flag, behind one trait: ALVS (the firmware's
+//! perception and FSM from `alvs_tasks`), its swarm variant, and the LGMD2 baseline with its
+//! direction-blind escape. A scripted controller drives obstacle robots.
+
+use alvs_tasks::fsm::{Behaviour, Fsm, FsmParams, State};
+use alvs_tasks::{Frame, Network, Params};
+
+use crate::arena::rng::Rng;
+use crate::lgmd2::{Lgmd2, Lgmd2Params};
+
+/// What a controller asks of the motors for one camera frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Command {
+    /// Left wheel, mm/s.
+    pub left_mm_s: f32,
+    /// Right wheel, mm/s.
+    pub right_mm_s: f32,
+    /// Name of the controller's state (for time-per-state statistics).
+    pub state: &'static str,
+    /// The controller's collision detector fired this frame.
+    pub alert: bool,
+}
+
+/// A robot's brain: one call per camera frame with the frame and the heading estimate.
+pub trait Controller: Send {
+    /// Short name for reports ("alvs", "swarm", "lgmd2", "scripted").
+    fn name(&self) -> &'static str;
+    /// One camera frame.
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command;
+}
+
+/// Which controller a robot runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// ALVS: aLPLC2 perception + escape FSM (paper Sec. II).
+    Alvs,
+    /// ALVS perception + spin-on-approach (paper Sec. IV-D).
+    Swarm,
+    /// LGMD2 perception + direction-blind escape (the paper's baseline).
+    Lgmd2,
+}
+
+impl Kind {
+    /// Name used in JSON and pictures.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Kind::Alvs => "alvs",
+            Kind::Swarm => "swarm",
+            Kind::Lgmd2 => "lgmd2",
+        }
+    }
+
+    /// A fresh controller of this kind; `seed` feeds the LGMD2 escape's random turns.
+    pub fn make(self, params: Params, seed: u64) -> Box<dyn Controller> {
+        match self {
+            Kind::Alvs => Box::new(AlvsController::new(params, Behaviour::Escape)),
+            Kind::Swarm => Box::new(AlvsController::new(params, Behaviour::Swarm)),
+            Kind::Lgmd2 => Box::new(Lgmd2Controller::new(Lgmd2Params::default(), seed)),
+        }
+    }
+}
+
+/// The firmware's perception and motor-control task bodies, unchanged.
+pub struct AlvsController {
+    net: Network,
+    fsm: Fsm,
+    swarm: bool,
+}
+
+impl AlvsController {
+    /// With the given model parameters (validated by the caller: `Params::validate`).
+    pub fn new(params: Params, behaviour: Behaviour) -> Self {
+        AlvsController {
+            net: Network::new(params).unwrap_or_else(|_| {
+                Network::new(Params::default()).expect("the paper's defaults are valid")
+            }),
+            fsm: Fsm::new(FsmParams::default(), behaviour),
+            swarm: behaviour == Behaviour::Swarm,
+        }
+    }
+
+    /// The perception state (for layer pictures).
+    pub fn network(&self) -> &Network {
+        &self.net
+    }
+}
+
+impl Controller for AlvsController {
+    fn name(&self) -> &'static str {
+        if self.swarm {
+            "swarm"
+        } else {
+            "alvs"
+        }
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let out = self.net.step(frame);
+        let cmd = self.fsm.step(&out.vm, heading_deg);
+        Command {
+            left_mm_s: cmd.left_mm_s,
+            right_mm_s: cmd.right_mm_s,
+            state: cmd.state.name(),
+            alert: out.vm.alert,
+        }
+    }
+}
+
+/// LGMD2 baseline behaviour (paper Sec. III, Fig. 4c): on a collision alert the robot turns in
+/// place by a random angle of random sign (it has no direction information), then runs straight
+/// for a while, then wanders again. Turn magnitude 60°–180°, escape 1 s: the same durations as
+/// the ALVS FSM, so the comparison isolates the direction information.
+pub struct Lgmd2Controller {
+    model: Lgmd2,
+    rng: Rng,
+    params: FsmParams,
+    state: State,
+    setpoint_deg: f32,
+    frames_in_state: u32,
+}
+
+/// Smallest random turn of the LGMD2 escape, degrees.
+pub const LGMD2_TURN_MIN_DEG: f32 = 60.0;
+/// Largest random turn of the LGMD2 escape, degrees.
+pub const LGMD2_TURN_MAX_DEG: f32 = 180.0;
+
+impl Lgmd2Controller {
+    /// With LGMD2 parameters and a seed for the random turns.
+    pub fn new(params: Lgmd2Params, seed: u64) -> Self {
+        Lgmd2Controller {
+            model: Lgmd2::new(params),
+            rng: Rng::new(seed),
+            params: FsmParams::default(),
+            state: State::Wander,
+            setpoint_deg: f32::NAN,
+            frames_in_state: 0,
+        }
+    }
+
+    fn enter(&mut self, s: State) {
+        self.state = s;
+        self.frames_in_state = 0;
+    }
+}
+
+impl Controller for Lgmd2Controller {
+    fn name(&self) -> &'static str {
+        "lgmd2"
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let out = self.model.step(frame);
+        let p = self.params;
+        if !self.setpoint_deg.is_finite() {
+            self.setpoint_deg = heading_deg;
+        }
+        self.frames_in_state = self.frames_in_state.saturating_add(1);
+        match self.state {
+            State::Wander if out.collision => {
+                let mag = LGMD2_TURN_MIN_DEG
+                    + (LGMD2_TURN_MAX_DEG - LGMD2_TURN_MIN_DEG) * self.rng.uniform() as f32;
+                let sign = if self.rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+                self.setpoint_deg = alvs_tasks::visuomotor::wrap_deg(heading_deg + sign * mag);
+                self.enter(State::LongTakeoff);
+            }
+            State::LongTakeoff => {
+                let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
+                if err.abs() <= p.align_tol_deg || self.frames_in_state > p.takeoff_timeout_frames {
+                    self.enter(State::Escape);
+                }
+            }
+            State::Escape if self.frames_in_state > p.min_escape_frames => {
+                self.setpoint_deg = heading_deg;
+                self.enter(State::Wander);
+            }
+            _ => {}
+        }
+        let v = match self.state {
+            State::LongTakeoff => 0.0,
+            State::Escape => p.max_escape_mm_s,
+            _ => p.cruise_mm_s,
+        };
+        let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
+        let omega = alvs_tasks::fsm::yaw_rate_rad_s(err, &p);
+        let (l, r) = alvs_tasks::fsm::mix(v, omega, &p);
+        Command {
+            left_mm_s: l,
+            right_mm_s: r,
+            state: self.state.name(),
+            alert: out.collision,
+        }
+    }
+}
+
+/// An obstacle robot: constant wheel speeds, ignores its camera.
+pub struct Scripted {
+    /// Left wheel, mm/s.
+    pub left_mm_s: f32,
+    /// Right wheel, mm/s.
+    pub right_mm_s: f32,
+}
+
+impl Controller for Scripted {
+    fn name(&self) -> &'static str {
+        "scripted"
+    }
+
+    fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
+        Command {
+            left_mm_s: self.left_mm_s,
+            right_mm_s: self.right_mm_s,
+            state: "scripted",
+            alert: false,
+        }
+    }
+}
+
+/// A controller whose perception runs but whose wheels stay still (the stationary observer of
+/// the paper's Fig. 3 experiments).
+pub struct Stationary(pub Box<dyn Controller>);
+
+impl Controller for Stationary {
+    fn name(&self) -> &'static str {
+        self.0.name()
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let c = self.0.step(frame, heading_deg);
+        Command {
+            left_mm_s: 0.0,
+            right_mm_s: 0.0,
+            ..c
+        }
+    }
+}
