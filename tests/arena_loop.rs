@@ -83,13 +83,10 @@ fn a_stationary_observer_alerts_on_a_robot_driving_at_it() {
     assert!(f < 120, "first alert at frame {f}");
 }
 
-/// Known failure, kept as the behaviour we want (issue 4): the first alert is right (X̄ = 73,
-/// long takeoff turning left), but the robot's own turn at up to 360°/s sweeps the textured
-/// walls ~17 px per frame; the correlators alias, all four quadrants fire (ΣLPLC2 > 100,000),
-/// short mode overrides the takeoff with an X̄ made of ego-motion and the robot turns right,
-/// towards the threat. Needs a slower turn or saccadic suppression during self-motion.
+/// The first alert is right (X̄ ≈ 73) and the long takeoff turns left. Without saccadic
+/// suppression the robot's own turn (up to 360°/s, ~17 px per frame) made the correlators alias,
+/// short mode fired with an X̄ of self-motion and the robot turned right, towards the threat.
 #[test]
-#[ignore = "ego-rotation during takeoff triggers short mode with a wrong X̄ (issue 4)"]
 fn alvs_turns_away_from_a_robot_approaching_from_its_right() {
     let world = World::default();
     let mut sim = Sim::new(&world, 2);

@@ -56,8 +56,17 @@ fn tol() -> f32 {
 
 // ---- getting an FSM into each state (heading frozen unless said otherwise) ----
 
+/// The transition logic itself, without saccadic suppression (tested on its own below): these
+/// tests freeze or script the heading, so a commanded turn never happens.
+fn params() -> FsmParams {
+    FsmParams {
+        saccade_yaw_deg_s: f32::INFINITY,
+        ..FsmParams::default()
+    }
+}
+
 fn fsm(b: Behaviour) -> Fsm {
-    Fsm::new(FsmParams::default(), b)
+    Fsm::new(params(), b)
 }
 
 /// Wander at heading `h`.
@@ -604,7 +613,7 @@ fn takeoff_times_out_into_escape_when_the_heading_never_aligns() {
 
 #[test]
 fn swarm_spins_in_place_and_never_escapes() {
-    let p = FsmParams::default();
+    let p = params();
     let mut f = swarm_wander(0.0);
     // a burst of threats, short mode included, then calm
     let input = |i: usize| match i {
@@ -757,7 +766,7 @@ proptest! {
     /// Nonsensical parameters must not panic either.
     #[test]
     fn any_params_do_not_panic(
-        vals in proptest::collection::vec(any_f32(), 9),
+        vals in proptest::collection::vec(any_f32(), 10),
         counts in proptest::collection::vec(any::<u32>(), 4),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
@@ -775,6 +784,7 @@ proptest! {
             quiet_frames: counts[1],
             takeoff_timeout_frames: counts[2],
             spin_frames: counts[3],
+            saccade_yaw_deg_s: vals[9],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {
@@ -782,4 +792,32 @@ proptest! {
             prop_assert!(c.left_mm_s.is_finite() && c.right_mm_s.is_finite());
         }
     }
+}
+
+#[test]
+fn perception_is_ignored_while_the_robot_turns_fast() {
+    // default parameters: suppression above 45 °/s of commanded yaw
+    let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    // a threat on the right: long takeoff, turning left at the rate limit
+    let c = f.step(&long(RIGHT_X), 0.0);
+    assert_eq!(c.state, State::LongTakeoff);
+    assert!(
+        f.suppressed(),
+        "turning at {} mm/s differential",
+        c.right_mm_s - c.left_mm_s
+    );
+    // the self-motion makes the scene 'loom' on the left: ignored, the takeoff goes on
+    let c = f.step(&short(LEFT_X), -10.0);
+    assert_eq!(c.state, State::LongTakeoff);
+    // close to the set-point the turn slows below 45 °/s and perception counts again
+    let sp = c.heading_setpoint_deg;
+    let c = f.step(&quiet(), sp + 5.0);
+    assert!(!f.suppressed(), "{c:?}");
+    let c = f.step(&short(LEFT_X), sp + 4.0);
+    assert_eq!(
+        c.state,
+        State::ShortTakeoff,
+        "a fierce stimulus still interrupts"
+    );
 }

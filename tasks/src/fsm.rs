@@ -116,6 +116,12 @@ pub struct FsmParams {
     pub spin_frames: u32,
     /// Swarm: yaw rate of the spin, °/s (positive = spin right).
     pub spin_deg_s: f32,
+    /// Saccadic suppression: while the robot turns faster than this (the yaw rate it commanded
+    /// on the previous frame, an efference copy), alerts and short mode are ignored. A turn at
+    /// hundreds of °/s sweeps the scene many pixels per frame; the correlators alias and every
+    /// quadrant fires, with a threat centroid made of self-motion. Flies suppress visual
+    /// responses during their own saccades for the same reason. `f32::INFINITY` disables it.
+    pub saccade_yaw_deg_s: f32,
 }
 
 impl Default for FsmParams {
@@ -134,6 +140,7 @@ impl Default for FsmParams {
             takeoff_timeout_frames: 90,
             spin_frames: 30,
             spin_deg_s: 360.0,
+            saccade_yaw_deg_s: 45.0,
         }
     }
 }
@@ -217,6 +224,8 @@ pub struct Fsm {
     frames: u32,
     /// Consecutive frames without alert (Escape).
     quiet: u32,
+    /// |yaw rate| commanded on the previous frame, °/s (the efference copy).
+    last_yaw_deg_s: f32,
 }
 
 impl Fsm {
@@ -233,6 +242,7 @@ impl Fsm {
             strength: 0.5,
             frames: 0,
             quiet: 0,
+            last_yaw_deg_s: 0.0,
         }
     }
 
@@ -263,17 +273,34 @@ impl Fsm {
     /// FSM untouched (the frame is skipped): a corrupt sensor must not move the robot.
     pub fn step(&mut self, vm: &Visuomotor, heading_deg: f32) -> MotorCommand {
         if !heading_deg.is_finite() || !vm_is_finite(vm) {
+            self.last_yaw_deg_s = 0.0;
             return self.command(0.0, 0.0);
         }
         let h = wrap_deg(heading_deg);
         if !self.latched {
             self.enter_wander(h);
         }
+        let suppressed;
+        let vm = if self.last_yaw_deg_s > self.params.saccade_yaw_deg_s {
+            suppressed = Visuomotor {
+                alert: false,
+                short_mode: false,
+                ..*vm
+            };
+            &suppressed
+        } else {
+            vm
+        };
         match self.behaviour {
             Behaviour::Escape => self.transition_escape(vm, h),
             Behaviour::Swarm => self.transition_swarm(vm, h),
         }
         self.output(h)
+    }
+
+    /// Whether the next frame's perception will be ignored (the robot is turning fast).
+    pub fn suppressed(&self) -> bool {
+        self.last_yaw_deg_s > self.params.saccade_yaw_deg_s
     }
 
     fn enter_wander(&mut self, h: f32) {
@@ -397,7 +424,7 @@ impl Fsm {
     }
 
     /// Wheel speeds of the current state.
-    fn output(&self, h: f32) -> MotorCommand {
+    fn output(&mut self, h: f32) -> MotorCommand {
         let p = &self.params;
         let s = self.strength;
         let (v, omega) = match self.state {
@@ -410,6 +437,8 @@ impl Fsm {
             },
             State::Spin => (0.0, p.spin_deg_s.to_radians()),
         };
+        let yaw = omega.to_degrees().abs();
+        self.last_yaw_deg_s = if yaw.is_finite() { yaw } else { 0.0 };
         let (l, r) = mix(v, omega, p);
         self.command(l, r)
     }
