@@ -5,6 +5,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use alvs_host::arena::Kind;
+use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::fsm::Behaviour;
 use alvs_tasks::{Params, HEIGHT, WIDTH};
@@ -35,6 +37,82 @@ enum Cmd {
         #[command(flatten)]
         model: ModelArgs,
     },
+    /// Experiment 4 (paper Figs. 5-6): robots wander in the walled arena; success rate,
+    /// collisions per minute, time per state and trajectory pictures per controller and
+    /// background.
+    ///
+    /// One trial is one controller on one background: all robots run that controller for
+    /// --minutes of simulated time. A collision is a centre distance below one robot diameter
+    /// (42 mm) between two robots or between a robot and the wall; an encounter is two bodies
+    /// within two diameters of each other (surface to surface); success rate = encounters
+    /// without a collision / encounters. Every controller starts from the same poses with the
+    /// same seed (a paired comparison). Trials run in parallel; results depend only on the
+    /// options, never on --jobs.
+    ///
+    /// With no option: 3 robots, 10 minutes, backgrounds clutter:1, stripes:40 and checker:60,
+    /// controllers alvs and lgmd2, seed 1; a table on stdout, pictures in out/arena.
+    Arena(ArenaArgs),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ControllerArg {
+    /// aLPLC2 perception + escape FSM (the paper's model).
+    Alvs,
+    /// LGMD2 perception + direction-blind escape (the paper's baseline).
+    Lgmd2,
+    /// aLPLC2 perception + spin on approach (paper IV-D).
+    Swarm,
+}
+
+impl ControllerArg {
+    fn kind(self) -> Kind {
+        match self {
+            ControllerArg::Alvs => Kind::Alvs,
+            ControllerArg::Lgmd2 => Kind::Lgmd2,
+            ControllerArg::Swarm => Kind::Swarm,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+struct ArenaArgs {
+    /// Simulated minutes per trial (30 camera frames per second).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena, all running the trial's controller.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    robots: usize,
+    /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
+    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED (the number may be left out: grey 128,
+    /// 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
+    /// Default: clutter:1, stripes:40, checker:60.
+    #[arg(long = "background", value_name = "SPEC")]
+    backgrounds: Vec<String>,
+    /// Controller to run (repeatable). Default: alvs and lgmd2.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<ControllerArg>,
+    /// Seed of everything random: start poses, motor, gyro and camera noise, LGMD2's turns.
+    #[arg(long, default_value_t = 1, value_name = "S")]
+    seed: u64,
+    /// Trials run in parallel on this many threads (default: the available parallelism);
+    /// results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+    /// Write the results as JSON: {"alvs":{...},"lgmd2":{...},"trials":[...]}.
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where the trajectory pictures (one per trial) and summary.png go.
+    #[arg(long, default_value = "out/arena", value_name = "DIR")]
+    png: PathBuf,
+    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
+    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
 }
 
 #[derive(clap::Args)]
@@ -74,17 +152,22 @@ struct ReplayArgs {
     model: ModelArgs,
 }
 
+/// The model parameters with `--param NAME=VALUE` overrides applied.
+fn parse_params(overrides: &[String]) -> Result<Params> {
+    let mut p = Params::default();
+    for kv in overrides {
+        let (k, v) = kv
+            .split_once('=')
+            .with_context(|| format!("--param {kv}: expected NAME=VALUE"))?;
+        p.set(k.trim(), v)
+            .map_err(|e| anyhow::anyhow!("--param {kv}: {e}"))?;
+    }
+    Ok(p)
+}
+
 impl ModelArgs {
     fn params(&self) -> Result<Params> {
-        let mut p = Params::default();
-        for kv in &self.params {
-            let (k, v) = kv
-                .split_once('=')
-                .with_context(|| format!("--param {kv}: expected NAME=VALUE"))?;
-            p.set(k.trim(), v)
-                .map_err(|e| anyhow::anyhow!("--param {kv}: {e}"))?;
-        }
-        Ok(p)
+        parse_params(&self.params)
     }
 
     fn behaviour(&self) -> Behaviour {
@@ -95,8 +178,34 @@ impl ModelArgs {
     }
 }
 
+/// A command-line error as one line: clap's message without its usage and help hints.
+fn one_line(e: &clap::Error) -> String {
+    let text = e.to_string();
+    let parts: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more information")
+        })
+        .collect();
+    let line = parts.join(" ");
+    line.strip_prefix("error: ").unwrap_or(&line).to_string()
+}
+
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            // --help, --version
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("alvs: error: {}", one_line(&e));
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         // a closed pipe (`alvs replay clip.y8 | head`) is the reader's choice, not an error
         Err(e)
@@ -181,5 +290,57 @@ fn run(cli: Cli) -> Result<()> {
             writeln!(out, "pictures in {}", png.display())?;
             Ok(())
         }
+        Cmd::Arena(a) => run_arena(a),
     }
+}
+
+fn run_arena(a: ArenaArgs) -> Result<()> {
+    let config = ArenaConfig {
+        robots: a.robots,
+        minutes: a.minutes,
+        backgrounds: if a.backgrounds.is_empty() {
+            DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
+        } else {
+            a.backgrounds
+        },
+        controllers: if a.controllers.is_empty() {
+            vec![Kind::Alvs, Kind::Lgmd2]
+        } else {
+            a.controllers.iter().map(|c| c.kind()).collect()
+        },
+        seed: a.seed,
+        params: parse_params(&a.params)?,
+        ..ArenaConfig::default()
+    };
+    let jobs = match a.jobs {
+        Some(0) => anyhow::bail!("--jobs must be at least 1"),
+        Some(j) => j,
+        None => arena::default_jobs(),
+    };
+    config.validate()?;
+    // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).
+    let bar = indicatif::ProgressBar::new(arena::total_frames(&config));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "arena {elapsed_precise} [{bar:40}] {percent:>3}% of {len} frames, eta {eta}",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    let report = arena::run(&config, jobs, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let report = report?;
+    let pictures = report.write_pictures(&a.png)?;
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string(&report.json())?;
+        std::fs::write(path, text + "\n")
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    let mut out = std::io::stdout().lock();
+    write!(out, "{}", report.table())?;
+    writeln!(out, "{} pictures in {}", pictures.len(), a.png.display())?;
+    if let Some(path) = &a.json {
+        writeln!(out, "JSON in {}", path.display())?;
+    }
+    Ok(())
 }

@@ -1,0 +1,353 @@
+//! Experiment 4 (`alvs arena`) on short runs: its counts are consistent, it is deterministic by
+//! seed whatever the number of threads, ALVS and LGMD2 start from the same poses, the JSON has
+//! the documented keys, and the command line helps and fails cleanly.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::OnceLock;
+
+use alvs_host::arena::{Kind, World};
+use alvs_host::experiments::arena::{
+    run, start_poses, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
+    START_WALL_CLEARANCE_MM,
+};
+use serde_json::Value;
+
+/// 0.5 simulated minutes: 900 camera frames per robot.
+fn short_config() -> ArenaConfig {
+    ArenaConfig {
+        robots: 3,
+        minutes: 0.5,
+        backgrounds: vec!["clutter:1".into()],
+        controllers: vec![Kind::Alvs, Kind::Lgmd2],
+        seed: 7,
+        ..ArenaConfig::default()
+    }
+}
+
+/// The short run on two threads, shared by the tests.
+fn short_run() -> &'static ArenaReport {
+    static REPORT: OnceLock<ArenaReport> = OnceLock::new();
+    REPORT.get_or_init(|| run(&short_config(), 2, &|_| {}).expect("a valid configuration"))
+}
+
+/// The report's JSON without the wall-clock times (the only numbers allowed to vary).
+fn numbers(report: &ArenaReport) -> Value {
+    fn strip(v: &mut Value) {
+        match v {
+            Value::Object(m) => {
+                m.remove("wall_clock_s");
+                m.values_mut().for_each(strip);
+            }
+            Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    let mut v = report.json();
+    strip(&mut v);
+    v
+}
+
+fn check_tally(what: &str, t: &TallyStats, minutes: f64) {
+    assert!(t.collided_encounters <= t.encounters, "{what}: {t:?}");
+    assert!(t.collisions >= t.collided_encounters, "{what}: {t:?}");
+    match t.success_rate {
+        None => assert_eq!(t.encounters, 0, "{what}: {t:?}"),
+        Some(r) => {
+            assert!((0.0..=1.0).contains(&r), "{what}: {t:?}");
+            let expect = (t.encounters - t.collided_encounters) as f64 / t.encounters as f64;
+            assert!((r - expect).abs() < 1e-12, "{what}: {t:?}");
+        }
+    }
+    assert!(
+        (t.collisions_per_minute - t.collisions as f64 / minutes).abs() < 1e-9,
+        "{what}: {t:?}"
+    );
+}
+
+#[test]
+fn counts_are_consistent() {
+    let report = short_run();
+    assert_eq!(report.trials.len(), 2);
+    assert_eq!(report.summaries.len(), 2);
+    for t in &report.trials {
+        let what = format!("{} on {}", t.controller, t.background);
+        assert_eq!(t.frames, 900, "{what}");
+        assert!((t.minutes - 0.5).abs() < 1e-9, "{what}");
+        check_tally(&format!("{what} robot-robot"), &t.robot_robot, t.minutes);
+        check_tally(&format!("{what} robot-wall"), &t.robot_wall, t.minutes);
+        let total = TallyStats {
+            encounters: t.encounters,
+            collisions: t.collisions,
+            collided_encounters: t.collided_encounters,
+            success_rate: t.success_rate,
+            collisions_per_minute: t.collisions_per_minute,
+        };
+        check_tally(&format!("{what} total"), &total, t.minutes);
+        assert_eq!(
+            t.encounters,
+            t.robot_robot.encounters + t.robot_wall.encounters
+        );
+        assert_eq!(
+            t.collisions,
+            t.robot_robot.collisions + t.robot_wall.collisions
+        );
+        assert_eq!(t.collision_events.len() as u64, t.collisions, "{what}");
+        let sum: f64 = t.state_fraction.values().sum();
+        assert!(
+            (sum - 1.0).abs() < 1e-9,
+            "{what}: state fractions sum to {sum}"
+        );
+        assert_eq!(
+            t.state_frames.values().sum::<u64>(),
+            t.frames * t.robots as u64,
+            "{what}"
+        );
+        assert!(t.state_fraction.contains_key("wander"), "{what}");
+        assert!((0.0..=1.0).contains(&t.wall_contact_fraction), "{what}");
+        assert!(
+            (0.0..400.0).contains(&t.mean_speed_mm_s),
+            "{what}: {}",
+            t.mean_speed_mm_s
+        );
+        assert_eq!(t.trails.len(), 3);
+        assert!(t.trails.iter().all(|tr| tr.len() == 151), "{what}");
+        assert!(t.wall_clock_s > 0.0);
+    }
+    for s in &report.summaries {
+        let mine: Vec<_> = report
+            .trials
+            .iter()
+            .filter(|t| t.controller == s.controller)
+            .collect();
+        assert_eq!(s.trials, mine.len());
+        assert_eq!(s.encounters, mine.iter().map(|t| t.encounters).sum::<u64>());
+        check_tally(
+            &format!("{} robot-robot", s.controller),
+            &s.robot_robot,
+            s.minutes,
+        );
+        check_tally(
+            &format!("{} robot-wall", s.controller),
+            &s.robot_wall,
+            s.minutes,
+        );
+        let sum: f64 = s.state_fraction.values().sum();
+        assert!((sum - 1.0).abs() < 1e-9);
+    }
+    assert!(
+        report.trials.iter().any(|t| t.encounters > 0),
+        "robots meet the walls within half a minute"
+    );
+}
+
+#[test]
+fn deterministic_by_seed_whatever_the_threads() {
+    let one_thread = run(&short_config(), 1, &|_| {}).unwrap();
+    assert_eq!(numbers(short_run()), numbers(&one_thread));
+    assert_eq!(one_thread.jobs, 1);
+    assert_eq!(short_run().jobs, 2);
+
+    let tiny = |seed| {
+        let c = ArenaConfig {
+            minutes: 0.05,
+            seed,
+            ..short_config()
+        };
+        numbers(&run(&c, 2, &|_| {}).unwrap())
+    };
+    assert_eq!(tiny(3), tiny(3));
+    assert_ne!(
+        tiny(3)["trials"],
+        tiny(4)["trials"],
+        "another seed, another run"
+    );
+}
+
+#[test]
+fn controllers_start_from_the_same_poses() {
+    let report = short_run();
+    let (a, l) = (&report.trials[0], &report.trials[1]);
+    assert_eq!((a.controller, l.controller), ("alvs", "lgmd2"));
+    assert_eq!(a.start_poses, l.start_poses);
+    assert_eq!(a.trails[0][0], l.trails[0][0]);
+    assert_ne!(a.end_poses, l.end_poses, "the controllers differ");
+}
+
+#[test]
+fn start_poses_keep_their_distances() {
+    let arena = World::default().arena;
+    for seed in 0..50 {
+        let poses = start_poses(&arena, 6, seed).unwrap();
+        assert_eq!(poses, start_poses(&arena, 6, seed).unwrap());
+        for (i, p) in poses.iter().enumerate() {
+            assert!(arena.wall_distance(p.x_mm, p.y_mm) >= START_WALL_CLEARANCE_MM);
+            for q in &poses[..i] {
+                assert!(p.distance_to(q) >= START_SEPARATION_MM);
+            }
+        }
+    }
+    assert_ne!(
+        start_poses(&arena, 3, 1).unwrap(),
+        start_poses(&arena, 3, 2).unwrap()
+    );
+    let err = start_poses(&arena, 500, 1).unwrap_err().to_string();
+    assert!(err.contains("cannot place 500 robots"), "{err}");
+}
+
+#[test]
+fn json_has_the_documented_keys() {
+    let v = short_run().json();
+    let top: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(top.len(), 3, "{top:?}");
+    for key in ["alvs", "lgmd2", "trials"] {
+        assert!(top.contains(&key), "{top:?}");
+    }
+    for c in ["alvs", "lgmd2"] {
+        let s = &v[c];
+        for key in [
+            "success_rate",
+            "encounters",
+            "collisions",
+            "collided_encounters",
+        ] {
+            assert!(s.get(key).is_some(), "{c} lacks {key}: {s}");
+        }
+        for part in ["robot_robot", "robot_wall"] {
+            for key in [
+                "encounters",
+                "collisions",
+                "success_rate",
+                "collisions_per_minute",
+            ] {
+                assert!(s[part].get(key).is_some(), "{c}.{part} lacks {key}");
+            }
+        }
+        assert!(s["state_fraction"].is_object());
+        assert!(s["encounters"].is_u64());
+        assert!(s["success_rate"].is_f64() || s["success_rate"].is_null());
+    }
+    assert!((v["alvs"]["paper_success_rate"].as_f64().unwrap() - 0.961).abs() < 1e-12);
+    assert!((v["lgmd2"]["paper_success_rate"].as_f64().unwrap() - 0.937).abs() < 1e-12);
+    let trials = v["trials"].as_array().unwrap();
+    assert_eq!(trials.len(), 2);
+    for t in trials {
+        for key in [
+            "controller",
+            "background",
+            "success_rate",
+            "encounters",
+            "collisions",
+            "robot_robot",
+            "robot_wall",
+            "wall_touches",
+            "state_fraction",
+            "wall_clock_s",
+            "start_poses",
+            "trails",
+        ] {
+            assert!(t.get(key).is_some(), "a trial lacks {key}");
+        }
+    }
+}
+
+fn alvs() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_alvs"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("alvs-arena-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn cli_writes_table_json_and_pictures() {
+    let d = tmp("run");
+    let json = d.join("arena.json");
+    let out = alvs()
+        .args(["arena", "--minutes", "0.05", "--background", "stripes:40"])
+        .args(["--seed", "3", "--jobs", "2", "--json"])
+        .arg(&json)
+        .arg("--png")
+        .arg(d.join("png"))
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.is_empty(),
+        "no progress bar off a terminal: {stderr}"
+    );
+    assert!(
+        stdout.contains("96.1 %") && stdout.contains("93.7 %"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("alvs") && stdout.contains("lgmd2"),
+        "{stdout}"
+    );
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["alvs"]["encounters"].is_u64() && v["lgmd2"]["collisions"].is_u64());
+    assert_eq!(v["trials"][0]["background"], "stripes:40");
+    for png in ["alvs_stripes-40.png", "lgmd2_stripes-40.png", "summary.png"] {
+        let bytes = std::fs::read(d.join("png").join(png)).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "{png}");
+    }
+}
+
+#[test]
+fn cli_helps() {
+    let out = alvs().args(["arena", "--help"]).output().unwrap();
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout);
+    for flag in [
+        "--minutes",
+        "--robots",
+        "--background",
+        "--controller",
+        "--seed",
+        "--jobs",
+        "--json",
+        "--png",
+        "--param",
+        "encounter",
+    ] {
+        assert!(help.contains(flag), "--help lacks {flag}: {help}");
+    }
+}
+
+#[test]
+fn bad_arguments_are_one_clear_line_and_a_failure() {
+    let d = tmp("bad");
+    let cases: [(&[&str], &str); 9] = [
+        (&["--background", "nosuch"], "nosuch"),
+        (&["--background", "checker:-3"], "positive"),
+        (&["--robots", "0"], "at least 1"),
+        (&["--robots", "200"], "cannot place 200 robots"),
+        (&["--minutes", "-1"], "positive"),
+        (&["--minutes", "soon"], "soon"),
+        (&["--controller", "fly"], "possible values"),
+        (&["--jobs", "0"], "at least 1"),
+        (&["--param", "bogus=1"], "unknown parameter"),
+    ];
+    for (args, expect) in cases {
+        let out = alvs()
+            .arg("arena")
+            .args(args)
+            .arg("--png")
+            .arg(&d)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}
