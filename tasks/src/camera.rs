@@ -222,6 +222,18 @@ pub struct Counters {
     pub sync_errors: u32,
 }
 
+impl Counters {
+    /// All totals 0 (usable in `const fn`, unlike `Default`).
+    pub const ZERO: Counters = Counters {
+        completed: 0,
+        delivered: 0,
+        dropped: 0,
+        invalidated: 0,
+        overruns: 0,
+        sync_errors: 0,
+    };
+}
+
 /// The frame hand-off between the DCMI interrupt and the perception task (see the module
 /// docs for the invariant).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -251,14 +263,7 @@ impl Handoff {
             in_frame: false,
             rows: 0,
             taint: None,
-            counters: Counters {
-                completed: 0,
-                delivered: 0,
-                dropped: 0,
-                invalidated: 0,
-                overruns: 0,
-                sync_errors: 0,
-            },
+            counters: Counters::ZERO,
         }
     }
 

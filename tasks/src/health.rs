@@ -221,14 +221,7 @@ impl SummaryWindow {
     pub const fn new() -> Self {
         SummaryWindow {
             second: 0,
-            last: Counters {
-                completed: 0,
-                delivered: 0,
-                dropped: 0,
-                invalidated: 0,
-                overruns: 0,
-                sync_errors: 0,
-            },
+            last: Counters::ZERO,
             last_rtt_dropped: 0,
             cycles: CycleStats::new(),
         }

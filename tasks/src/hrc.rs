@@ -171,6 +171,19 @@ pub fn motion_map(m: &Maps, sc: &LmScale, dir: Direction, out: &mut [u32; PIXELS
     }
 }
 
+/// Four pseudo-random byte maps (on, off, on_d, off_d) with motion in every direction, for
+/// tests that compare fast paths against the plain references.
+#[cfg(test)]
+pub(crate) fn random_maps(seed: u32) -> [[u8; PIXELS]; 4] {
+    let mut seed = seed;
+    let mut maps = [[0u8; PIXELS]; 4];
+    for v in maps.iter_mut().flat_map(|m| m.iter_mut()) {
+        seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
+        *v = (seed >> 16) as u8;
+    }
+    maps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,17 +307,7 @@ mod tests {
 
     #[test]
     fn the_fused_loop_equals_the_reference_correlators() {
-        let mut seed = 99u32;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
-            (seed >> 16) as u8
-        };
-        let mut maps = [[0u8; PIXELS]; 4];
-        for m in maps.iter_mut() {
-            for v in m.iter_mut() {
-                *v = rnd();
-            }
-        }
+        let maps = random_maps(99);
         let m = Maps {
             on: &maps[0],
             off: &maps[1],

@@ -236,17 +236,7 @@ mod tests {
         let p = Params::default();
         let sc = LmScale::new(&p);
         // pseudo-random maps with plenty of motion in every direction
-        let mut seed = 12345u32;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
-            (seed >> 16) as u8
-        };
-        let mut maps = [[0u8; PIXELS]; 4];
-        for m in maps.iter_mut() {
-            for v in m.iter_mut() {
-                *v = rnd();
-            }
-        }
+        let maps = crate::hrc::random_maps(12345);
         let m = Maps {
             on: &maps[0],
             off: &maps[1],
