@@ -7,13 +7,17 @@
 //!
 //! State is fixed-size: the previous frame (7 KB), the ON/OFF maps at `t` (14 KB), their
 //! delayed copies (14 KB, Eq. 6's `t − C_d`), and at most [`MAX_AFS`] fields.
+//!
+//! A frame enters either whole ([`Network::step`]) or row by row as the camera delivers it
+//! ([`Network::push_row`] then [`Network::end_frame`]); both run the same code and give the
+//! same output. Streaming is what lets the firmware keep no frame buffer (docs/firmware.md).
 
 use crate::attention::Fields;
-use crate::frame::{Frame, PIXELS};
+use crate::frame::{Frame, WIDTH};
 use crate::hrc::{LmScale, Maps};
 use crate::lplc2::{self, Lplc2};
 use crate::params::{ParamError, Params};
-use crate::retina::{self, Weights};
+use crate::retina::{delay_q8, Retina, RowError, Weights};
 use crate::visuomotor::Visuomotor;
 
 /// Attention fields the network can hold at once. With Table I's `R_AF` = 36 on a 99x72
@@ -61,19 +65,27 @@ impl Perception {
     }
 }
 
+/// The stages of a step, in order, as [`Network::end_frame_marked`] reports their ends
+/// (the firmware and the cycle model time them with the DWT cycle counter).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// Retina, ON/OFF, 3x3 mean and delay line, Eqs. (1)–(2), (6) (all rows).
+    Retina,
+    /// New fields, centroids, fusion, Eqs. (3)–(5).
+    Attention,
+    /// T4/T5 correlators, quadrants, LPLC2 gate, Eqs. (6)–(9).
+    Motion,
+    /// Retirement and the visuomotor convergence, Eqs. (10)–(15).
+    Visuomotor,
+}
+
 /// The aLPLC2 network.
 #[derive(Clone)]
 pub struct Network {
     params: Params,
     weights: Weights,
     scale: LmScale,
-    prev: Frame,
-    on: [u8; PIXELS],
-    off: [u8; PIXELS],
-    on_d: [u8; PIXELS],
-    off_d: [u8; PIXELS],
-    /// Delay-filter gain `1/C_d` in Q8.
-    delay_q8: i32,
+    retina: Retina,
     frames: u32,
     fields: Fields,
 }
@@ -86,12 +98,7 @@ impl Network {
             params,
             weights: Weights::new(&params),
             scale: LmScale::new(&params),
-            prev: [0; PIXELS],
-            on: [0; PIXELS],
-            off: [0; PIXELS],
-            on_d: [0; PIXELS],
-            off_d: [0; PIXELS],
-            delay_q8: delay_q8(&params),
+            retina: Retina::new(delay_q8(&params)),
             frames: 0,
             fields: Fields::default(),
         })
@@ -101,7 +108,7 @@ impl Network {
     pub fn set_params(&mut self, params: Params) -> Result<(), ParamError> {
         params.validate()?;
         self.params = params;
-        self.delay_q8 = delay_q8(&params);
+        self.retina.set_delay_q8(delay_q8(&params));
         self.weights = Weights::new(&params);
         self.scale = LmScale::new(&params);
         Ok(())
@@ -110,10 +117,7 @@ impl Network {
     /// Forgets everything seen: the next frame primes again (e.g. after a dropped frame).
     pub fn reset(&mut self) {
         self.frames = 0;
-        self.on = [0; PIXELS];
-        self.off = [0; PIXELS];
-        self.on_d = [0; PIXELS];
-        self.off_d = [0; PIXELS];
+        self.retina.reset();
         self.fields.clear();
     }
 
@@ -134,12 +138,7 @@ impl Network {
 
     /// The newest ON/OFF mean maps and those `C_d` frames older, as the correlators read them.
     pub fn maps(&self) -> Maps<'_> {
-        Maps {
-            on: &self.on,
-            off: &self.off,
-            on_d: &self.on_d,
-            off_d: &self.off_d,
-        }
+        self.retina.maps()
     }
 
     /// Fixed-point weights of the ON/OFF maps (for pictures of `L̂_ON`, `L̂_OFF`, `L̂_t`).
@@ -152,33 +151,77 @@ impl Network {
         &self.scale
     }
 
-    /// Processes one frame: the perception task's body.
+    /// Processes one whole frame: [`Network::push_row`] for each row, then
+    /// [`Network::end_frame`]. A streamed frame left unfinished is dropped first.
     pub fn step(&mut self, frame: &Frame) -> Perception {
+        self.step_marked(frame, &mut |_| {})
+    }
+
+    /// [`Network::step`], calling `mark` as each [`Stage`] ends.
+    pub fn step_marked(&mut self, frame: &Frame, mark: &mut impl FnMut(Stage)) -> Perception {
+        self.abort_frame();
+        for row in frame.chunks_exact(WIDTH) {
+            if let Ok(row) = <&[u8; WIDTH]>::try_from(row) {
+                let _ = self.retina.push_row(row);
+            }
+        }
+        // `HEIGHT` rows went in, so the frame cannot end short.
+        self.end_frame_marked(mark).unwrap_or_default()
+    }
+
+    /// The next row of a streamed frame (top to bottom): the retina stage runs as rows arrive.
+    pub fn push_row(&mut self, row: &[u8; WIDTH]) -> Result<(), RowError> {
+        self.retina.push_row(row)
+    }
+
+    /// Drops a partly streamed frame. The rows taken have already replaced part of the
+    /// previous frame and of the maps, so the network starts over (fields forgotten, the next
+    /// frame primes).
+    pub fn abort_frame(&mut self) {
+        if self.retina.rows() != 0 {
+            self.reset();
+        }
+    }
+
+    /// Ends a streamed frame and runs the rest of the step. A frame with fewer than `HEIGHT`
+    /// rows is refused and the network starts over ([`Network::abort_frame`]).
+    pub fn end_frame(&mut self) -> Result<Perception, RowError> {
+        self.end_frame_marked(&mut |_| {})
+    }
+
+    /// [`Network::end_frame`], calling `mark` as each [`Stage`] ends.
+    pub fn end_frame_marked(
+        &mut self,
+        mark: &mut impl FnMut(Stage),
+    ) -> Result<Perception, RowError> {
+        let primed = match self.retina.end_frame() {
+            Ok(primed) => primed,
+            Err(e) => {
+                self.reset();
+                return Err(e);
+            }
+        };
         let index = self.frames;
         self.frames = self.frames.saturating_add(1);
-        if index == 0 {
-            self.prev = *frame;
-            return Perception {
+        mark(Stage::Retina);
+        if !primed {
+            return Ok(Perception {
                 frame: index,
                 afs: heapless::Vec::new(),
                 vm: Visuomotor::from_fields(core::iter::empty(), &self.params),
-            };
+            });
         }
         let p = self.params;
-        // Eq. (6)'s delay line takes the maps of t − 1, then Eqs. (1)–(2) give those of t.
-        delay(&mut self.on_d, &self.on, self.delay_q8);
-        delay(&mut self.off_d, &self.off, self.delay_q8);
-        retina::on_off_mean(frame, &self.prev, &mut self.on, &mut self.off);
-        self.prev = *frame;
 
         // Eqs. (3)–(5).
-        let (on, off) = (&self.on, &self.off);
+        let maps = self.retina.maps();
+        let (on, off) = (maps.on, maps.off);
         self.fields.spawn(on, off, &self.weights, &p);
         self.fields.recentre(on, off, &self.weights, &p);
         self.fields.fuse(p.r_af);
+        mark(Stage::Attention);
 
         // Eqs. (6)–(9) per field, then Eq. (10).
-        let maps = self.maps();
         let regions: heapless::Vec<lplc2::Region, MAX_AFS> = self
             .fields
             .iter()
@@ -197,6 +240,7 @@ impl Network {
             p.q_balance,
             &mut lplc,
         );
+        mark(Stage::Motion);
         // (id, result) of every field alive during this frame, before Eq. (10) retires some
         let results: heapless::Vec<(u32, Lplc2), MAX_AFS> = self
             .fields
@@ -223,39 +267,72 @@ impl Network {
             }
         }
         let vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
-        Perception {
+        mark(Stage::Visuomotor);
+        Ok(Perception {
             frame: index,
             afs,
             vm,
+        })
+    }
+
+    /// FNV-1a digest of the whole state (maps, previous frame, fields, counters): equal
+    /// digests after equal inputs prove two builds of this code (host, Cortex-M4) agree bit
+    /// for bit.
+    pub fn digest(&self) -> u32 {
+        let mut h = Fnv::new();
+        let m = self.retina.maps();
+        for map in [&self.retina.prev()[..], m.on, m.off, m.on_d, m.off_d] {
+            h.bytes(map);
         }
+        h.u32(self.frames);
+        for f in self.fields.iter() {
+            h.u32(f.id);
+            h.bytes(&[f.x, f.y]);
+            h.u32(f.age);
+            h.u32(f.response());
+        }
+        h.finish()
     }
 }
 
-/// `1/C_d` in Q8 (256 = a pure one-frame delay).
-fn delay_q8(p: &Params) -> i32 {
-    (256.0 / p.c_d + 0.5) as i32
+/// 32-bit FNV-1a.
+pub struct Fnv(u32);
+
+impl Fnv {
+    /// The offset basis.
+    pub fn new() -> Self {
+        Fnv(0x811c_9dc5)
+    }
+
+    /// Hashes bytes.
+    pub fn bytes(&mut self, b: &[u8]) {
+        for &b in b {
+            self.0 = (self.0 ^ u32::from(b)).wrapping_mul(0x0100_0193);
+        }
+    }
+
+    /// Hashes a word, little-endian.
+    pub fn u32(&mut self, v: u32) {
+        self.bytes(&v.to_le_bytes());
+    }
+
+    /// The digest.
+    pub fn finish(&self) -> u32 {
+        self.0
+    }
 }
 
-/// First-order low-pass delay line: `D ← D + (L − D)/C_d`, rounded to nearest but moving at
-/// least one grey level while `D ≠ L` (8-bit rounding would otherwise leave `D` stuck up to
-/// `C_d/2` levels off a steady input: a ghost the correlators would see). With `C_d = 1`
-/// it copies `L`: the pure one-frame delay of the paper's Eq. (6); larger `C_d` delays by `C_d`
-/// frames on average, tuning the correlators to slower motion at no extra memory.
-pub fn delay(d: &mut [u8; PIXELS], l: &[u8; PIXELS], gain_q8: i32) {
-    for (d, &l) in d.iter_mut().zip(l.iter()) {
-        let diff = i32::from(l) - i32::from(*d);
-        // |step| ≤ |diff| for gain ≤ 256 (C_d ≥ 1), so D never overshoots L nor leaves 0..=255;
-        // and at least one grey level towards L, so D never sticks short of a steady input
-        let step = (diff * gain_q8 + 128) >> 8;
-        let step = if step == 0 { diff.signum() } else { step };
-        *d = (i32::from(*d) + step) as u8;
+impl Default for Fnv {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frame::WIDTH;
+    use crate::frame::PIXELS;
+    use crate::retina::delay;
 
     #[test]
     fn the_first_frame_primes_and_never_alerts() {
@@ -299,6 +376,79 @@ mod tests {
             }
             assert_eq!(d[0], 200, "gain {gain}");
         }
+    }
+
+    fn square(t: usize) -> Frame {
+        let mut f = [200u8; PIXELS];
+        let half = 3 + 2 * t;
+        for y in 36usize.saturating_sub(half)..(36 + half).min(72) {
+            for x in 49usize.saturating_sub(half)..(49 + half).min(WIDTH) {
+                f[y * WIDTH + x] = 20;
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn streamed_rows_and_whole_frames_give_the_same_perception() {
+        let mut whole = Network::new(Params::default()).unwrap();
+        let mut rows = Network::new(Params::default()).unwrap();
+        for t in 0..12 {
+            let f = square(t);
+            let a = whole.step(&f);
+            for r in f.chunks_exact(WIDTH) {
+                rows.push_row(r.try_into().unwrap()).unwrap();
+            }
+            let b = rows.end_frame().unwrap();
+            assert_eq!(a, b, "frame {t}");
+            assert_eq!(whole.digest(), rows.digest());
+        }
+        assert!(whole.fields().len() == 1, "the square is tracked");
+    }
+
+    #[test]
+    fn a_torn_frame_is_refused_and_the_network_starts_over() {
+        let mut n = Network::new(Params::default()).unwrap();
+        for t in 0..6 {
+            n.step(&square(t));
+        }
+        assert!(!n.fields().is_empty());
+        for r in square(6).chunks_exact(WIDTH).take(40) {
+            n.push_row(r.try_into().unwrap()).unwrap();
+        }
+        assert_eq!(n.end_frame(), Err(RowError::Short { rows: 40 }));
+        assert!(n.fields().is_empty() && n.frames() == 0);
+        let out = n.step(&square(7));
+        assert_eq!(out.frame, 0, "the next frame primes");
+        // and a frame left half-streamed before a whole step is dropped the same way
+        n.push_row(&[0; WIDTH]).unwrap();
+        assert_eq!(n.step(&square(8)).frame, 0);
+    }
+
+    #[test]
+    fn stages_are_marked_in_order_once_each() {
+        let mut n = Network::new(Params::default()).unwrap();
+        let mut seen = heapless::Vec::<Stage, 8>::new();
+        n.step_marked(&square(0), &mut |s| seen.push(s).unwrap());
+        assert_eq!(&seen[..], &[Stage::Retina], "priming ends after the retina");
+        seen.clear();
+        n.step_marked(&square(1), &mut |s| seen.push(s).unwrap());
+        let all = [Stage::Retina, Stage::Attention, Stage::Motion, Stage::Visuomotor];
+        assert_eq!(&seen[..], &all);
+    }
+
+    #[test]
+    fn the_digest_sees_every_part_of_the_state() {
+        let mut a = Network::new(Params::default()).unwrap();
+        let d0 = a.digest();
+        a.step(&square(0));
+        let d1 = a.digest();
+        assert_ne!(d0, d1, "previous frame");
+        let mut b = a.clone();
+        a.step(&square(1));
+        b.step(&square(2));
+        assert_ne!(a.digest(), b.digest());
+        assert_eq!(Network::new(Params::default()).unwrap().digest(), d0);
     }
 
     #[test]

@@ -11,9 +11,224 @@
 //!
 //! Border (the paper is silent): there are no photoreceptors outside the retina, so the change
 //! outside is 0 and border pixels are still divided by 9.
+//!
+//! # Streaming
+//!
+//! [`Retina`] takes a frame row by row as the camera delivers it ([`Retina::push_row`]), so the
+//! firmware keeps no frame buffer: the only copy of a frame is the previous one, `P(t−1)`, which
+//! each row overwrites once its change is computed. A row of the means is final once the row
+//! below it has arrived; finalising it first moves the old mean into the delay line of Eq. (6)
+//! ([`delay`]) and then stores the new one. [`on_off_mean`] is the plain whole-frame reference the
+//! tests hold the streaming form to.
 
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
 use crate::params::Params;
+
+/// Rows a streamed frame has; a row index beyond this is refused.
+const ROWS: u8 = HEIGHT as u8;
+const _: () = assert!(HEIGHT <= u8::MAX as usize);
+
+/// Why a streamed row or frame end is refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowError {
+    /// A frame already holds all its rows.
+    TooManyRows,
+    /// The frame ended after `rows` rows, not [`HEIGHT`].
+    Short {
+        /// Rows received.
+        rows: u8,
+    },
+}
+
+impl core::fmt::Display for RowError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RowError::TooManyRows => write!(f, "more than {HEIGHT} rows in a frame"),
+            RowError::Short { rows } => write!(f, "frame ended after {rows} of {HEIGHT} rows"),
+        }
+    }
+}
+
+impl core::error::Error for RowError {}
+
+/// Retina, lamina and the delay line: the state kept between frames (35.6 KB) and the
+/// 3-row ring of horizontal sums that turns rows into 3x3 means.
+#[derive(Clone)]
+pub struct Retina {
+    prev: Frame,
+    on: [u8; PIXELS],
+    off: [u8; PIXELS],
+    on_d: [u8; PIXELS],
+    off_d: [u8; PIXELS],
+    /// Horizontal 3-sums of the last rows, row `y` in slot `y % 3`.
+    h_on: [[u16; WIDTH]; 3],
+    h_off: [[u16; WIDTH]; 3],
+    /// Rows of the current frame received.
+    rows: u8,
+    /// Whether `prev` holds a frame (the priming frame has been seen).
+    primed: bool,
+    /// Delay-filter gain `1/C_d` in Q8.
+    delay_q8: i32,
+}
+
+impl Retina {
+    /// Empty maps, waiting for a priming frame; `delay_q8` is `1/C_d` in Q8 ([`delay_q8`]).
+    pub const fn new(delay_q8: i32) -> Self {
+        Retina {
+            prev: [0; PIXELS],
+            on: [0; PIXELS],
+            off: [0; PIXELS],
+            on_d: [0; PIXELS],
+            off_d: [0; PIXELS],
+            h_on: [[0; WIDTH]; 3],
+            h_off: [[0; WIDTH]; 3],
+            rows: 0,
+            primed: false,
+            delay_q8,
+        }
+    }
+
+    /// Changes the delay-filter gain (new parameters), keeping the maps.
+    pub fn set_delay_q8(&mut self, delay_q8: i32) {
+        self.delay_q8 = delay_q8;
+    }
+
+    /// Forgets every frame: the next one primes.
+    pub fn reset(&mut self) {
+        *self = Retina::new(self.delay_q8);
+    }
+
+    /// Whether the maps describe a change (a priming frame came before the last frame).
+    pub fn primed(&self) -> bool {
+        self.primed
+    }
+
+    /// Rows of the current frame received so far.
+    pub fn rows(&self) -> u8 {
+        self.rows
+    }
+
+    /// Drops a partly received frame. Rows already taken have overwritten `P(t−1)` and the
+    /// maps, so the retina primes again (the caller must not use the maps until then).
+    pub fn abort_frame(&mut self) {
+        if self.rows != 0 {
+            self.reset();
+        }
+    }
+
+    /// The next row of the current frame (rows arrive top to bottom).
+    pub fn push_row(&mut self, row: &[u8; WIDTH]) -> Result<(), RowError> {
+        let y = self.rows;
+        if y >= ROWS {
+            return Err(RowError::TooManyRows);
+        }
+        self.rows = y + 1;
+        let y = usize::from(y);
+        let Some(prev) = self.prev.get_mut(y * WIDTH..(y + 1) * WIDTH) else {
+            return Err(RowError::TooManyRows);
+        };
+        if self.primed {
+            let slot = y % 3;
+            row_sums(row, prev, &mut self.h_on[slot], &mut self.h_off[slot]);
+        }
+        prev.copy_from_slice(row);
+        if self.primed && y >= 1 {
+            self.finish_row(y - 1);
+        }
+        Ok(())
+    }
+
+    /// Ends the frame: the last row of the means is finalised. Returns whether the maps now
+    /// hold a change (false for the priming frame).
+    pub fn end_frame(&mut self) -> Result<bool, RowError> {
+        let rows = self.rows;
+        if rows != ROWS {
+            self.abort_frame();
+            return Err(RowError::Short { rows });
+        }
+        self.rows = 0;
+        if !self.primed {
+            self.primed = true;
+            return Ok(false);
+        }
+        self.finish_row(HEIGHT - 1);
+        Ok(true)
+    }
+
+    /// Row `y`'s 3x3 means from the ring (rows outside the retina sum to 0); the old means go
+    /// through the delay line first.
+    fn finish_row(&mut self, y: usize) {
+        const ZERO: [u16; WIDTH] = [0; WIDTH];
+        let above = if y == 0 { &ZERO } else { &self.h_on[(y + 2) % 3] };
+        let below = if y + 1 == HEIGHT { &ZERO } else { &self.h_on[(y + 1) % 3] };
+        finish(
+            &mut self.on[y * WIDTH..(y + 1) * WIDTH],
+            &mut self.on_d[y * WIDTH..(y + 1) * WIDTH],
+            [above, &self.h_on[y % 3], below],
+            self.delay_q8,
+        );
+        let above = if y == 0 { &ZERO } else { &self.h_off[(y + 2) % 3] };
+        let below = if y + 1 == HEIGHT { &ZERO } else { &self.h_off[(y + 1) % 3] };
+        finish(
+            &mut self.off[y * WIDTH..(y + 1) * WIDTH],
+            &mut self.off_d[y * WIDTH..(y + 1) * WIDTH],
+            [above, &self.h_off[y % 3], below],
+            self.delay_q8,
+        );
+    }
+
+    /// The newest ON/OFF means (`t`) and their delayed copies, as the correlators read them.
+    pub fn maps(&self) -> crate::hrc::Maps<'_> {
+        crate::hrc::Maps {
+            on: &self.on,
+            off: &self.off,
+            on_d: &self.on_d,
+            off_d: &self.off_d,
+        }
+    }
+
+    /// The previous frame `P(t−1)` (after a frame ends: that frame).
+    pub fn prev(&self) -> &Frame {
+        &self.prev
+    }
+}
+
+/// One output row: delay line fed with the old means, then the new means.
+#[inline(always)]
+fn finish(out: &mut [u8], delayed: &mut [u8], rows: [&[u16; WIDTH]; 3], gain_q8: i32) {
+    let [a, m, b] = rows;
+    for (x, (o, d)) in out.iter_mut().zip(delayed.iter_mut()).enumerate().take(WIDTH) {
+        *d = delay_step(*d, *o, gain_q8);
+        *o = div9(a[x] + m[x] + b[x]);
+    }
+}
+
+/// `1/C_d` in Q8 (256 = a pure one-frame delay).
+pub fn delay_q8(p: &Params) -> i32 {
+    (256.0 / p.c_d + 0.5) as i32
+}
+
+/// First-order low-pass delay line of Eq. (6): `D ← D + (L − D)/C_d`, rounded to nearest but
+/// moving at least one grey level while `D ≠ L` (8-bit rounding would otherwise leave `D` stuck
+/// up to `C_d/2` levels off a steady input: a ghost the correlators would see). With `C_d = 1`
+/// it copies `L`: the pure one-frame delay of the paper's Eq. (6); larger `C_d` delays by `C_d`
+/// frames on average, tuning the correlators to slower motion at no extra memory.
+pub fn delay(d: &mut [u8; PIXELS], l: &[u8; PIXELS], gain_q8: i32) {
+    for (d, &l) in d.iter_mut().zip(l.iter()) {
+        *d = delay_step(*d, l, gain_q8);
+    }
+}
+
+/// One pixel of [`delay`].
+#[inline(always)]
+fn delay_step(d: u8, l: u8, gain_q8: i32) -> u8 {
+    let diff = i32::from(l) - i32::from(d);
+    // |step| ≤ |diff| for gain ≤ 256 (C_d ≥ 1), so D never overshoots L nor leaves 0..=255;
+    // and at least one grey level towards L, so D never sticks short of a steady input
+    let step = (diff * gain_q8 + 128) >> 8;
+    let step = if step == 0 { diff.signum() } else { step };
+    (i32::from(d) + step) as u8
+}
 
 /// `⌊s / 9⌋` for a 3x3 sum of bytes (`s ≤ 2295`) as a multiply and shift (exact on that range,
 /// checked by a test), since the Cortex-M4 divider takes up to 12 cycles.
@@ -22,7 +237,8 @@ pub fn div9(s: u16) -> u8 {
     ((u32::from(s) * 7282) >> 16) as u8
 }
 
-/// Eqs. (1)–(2): the ON and OFF maps of the change from `prev` to `cur`, 3x3-averaged.
+/// Eqs. (1)–(2): the ON and OFF maps of the change from `prev` to `cur`, 3x3-averaged (the
+/// whole-frame reference of [`Retina`]).
 ///
 /// One pass over the frame: each row's horizontal 3-sums go into a 3-row ring, and a row of
 /// output is written as soon as the row below it has been summed.
@@ -30,11 +246,11 @@ pub fn on_off_mean(cur: &Frame, prev: &Frame, on: &mut [u8; PIXELS], off: &mut [
     // Horizontal 3-sums of rows y-1, y, y+1 (index y % 3); a row outside the retina sums to 0.
     let mut h_on = [[0u16; WIDTH]; 3];
     let mut h_off = [[0u16; WIDTH]; 3];
-    row_sums(cur, prev, 0, &mut h_on[0], &mut h_off[0]);
+    row_sums(row(cur, 0), row(prev, 0), &mut h_on[0], &mut h_off[0]);
     for y in 0..HEIGHT {
         let below = (y + 1) % 3;
         if y + 1 < HEIGHT {
-            row_sums(cur, prev, y + 1, &mut h_on[below], &mut h_off[below]);
+            row_sums(row(cur, y + 1), row(prev, y + 1), &mut h_on[below], &mut h_off[below]);
         } else {
             h_on[below] = [0; WIDTH];
             h_off[below] = [0; WIDTH];
@@ -51,15 +267,18 @@ pub fn on_off_mean(cur: &Frame, prev: &Frame, on: &mut [u8; PIXELS], off: &mut [
     }
 }
 
-/// Horizontal 3-sums of the rectified change of row `y`.
-fn row_sums(cur: &Frame, prev: &Frame, y: usize, on: &mut [u16; WIDTH], off: &mut [u16; WIDTH]) {
-    let c = &cur[y * WIDTH..(y + 1) * WIDTH];
-    let p = &prev[y * WIDTH..(y + 1) * WIDTH];
+fn row(f: &Frame, y: usize) -> &[u8] {
+    &f[y * WIDTH..(y + 1) * WIDTH]
+}
+
+/// Horizontal 3-sums of the rectified change from row `p` to row `c`.
+#[inline(always)]
+fn row_sums(c: &[u8], p: &[u8], on: &mut [u16; WIDTH], off: &mut [u16; WIDTH]) {
     let mut r_on = [0u16; WIDTH + 2];
     let mut r_off = [0u16; WIDTH + 2];
-    for x in 0..WIDTH {
+    for (x, (&c, &p)) in c.iter().zip(p).enumerate().take(WIDTH) {
         // Eq. (1) without the weight: R > 0 feeds ON, R < 0 feeds OFF.
-        let r = i16::from(c[x]) - i16::from(p[x]);
+        let r = i16::from(c) - i16::from(p);
         r_on[x + 1] = r.max(0) as u16;
         r_off[x + 1] = (-r).max(0) as u16;
     }
@@ -146,6 +365,75 @@ mod tests {
         assert_eq!(off[PIXELS - 1], 40);
         assert_eq!(off[(HEIGHT - 1) * WIDTH + 40], 60);
         assert!(on.iter().all(|&v| v == 0));
+    }
+
+    /// A deterministic pseudo-random frame.
+    fn noise(seed: u32) -> Frame {
+        let mut f = [0u8; PIXELS];
+        let mut s = seed.wrapping_mul(2_654_435_761).max(1);
+        for v in f.iter_mut() {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            *v = (s >> 24) as u8;
+        }
+        f
+    }
+
+    fn stream(r: &mut Retina, f: &Frame) -> Result<bool, RowError> {
+        for row in f.chunks_exact(WIDTH) {
+            r.push_row(row.try_into().unwrap())?;
+        }
+        r.end_frame()
+    }
+
+    #[test]
+    fn streaming_rows_equals_the_whole_frame_reference_with_its_delay_line() {
+        for gain in [256, 128, 43] {
+            let mut r = Retina::new(gain);
+            let (mut on_d, mut off_d) = ([0u8; PIXELS], [0u8; PIXELS]);
+            let (mut on, mut off) = ([0u8; PIXELS], [0u8; PIXELS]);
+            let mut prev = noise(0);
+            assert_eq!(stream(&mut r, &prev), Ok(false), "the first frame primes");
+            assert!(r.primed());
+            for t in 1..6 {
+                let cur = noise(t);
+                // the reference: delay the maps of t − 1, then the means of t
+                delay(&mut on_d, &on, gain);
+                delay(&mut off_d, &off, gain);
+                on_off_mean(&cur, &prev, &mut on, &mut off);
+                assert_eq!(stream(&mut r, &cur), Ok(true));
+                let m = r.maps();
+                assert!(m.on == &on && m.off == &off, "means, frame {t} gain {gain}");
+                assert!(m.on_d == &on_d && m.off_d == &off_d, "delayed, frame {t}");
+                assert_eq!(r.prev(), &cur);
+                prev = cur;
+            }
+        }
+    }
+
+    #[test]
+    fn a_frame_with_the_wrong_number_of_rows_is_refused_and_primes_again() {
+        let mut r = Retina::new(128);
+        stream(&mut r, &noise(1)).unwrap();
+        stream(&mut r, &noise(2)).unwrap();
+        // short: 10 rows then the end
+        for row in noise(3).chunks_exact(WIDTH).take(10) {
+            r.push_row(row.try_into().unwrap()).unwrap();
+        }
+        assert_eq!(r.end_frame(), Err(RowError::Short { rows: 10 }));
+        assert!(!r.primed(), "a torn frame is never used: the retina starts over");
+        assert_eq!(stream(&mut r, &noise(4)), Ok(false), "primes");
+        assert_eq!(stream(&mut r, &noise(5)), Ok(true));
+        // too many: the 73rd row is refused, the frame still ends whole
+        for row in noise(6).chunks_exact(WIDTH) {
+            r.push_row(row.try_into().unwrap()).unwrap();
+        }
+        assert_eq!(r.push_row(&[0; WIDTH]), Err(RowError::TooManyRows));
+        assert_eq!(r.end_frame(), Ok(true));
+        assert_eq!(r.prev(), &noise(6));
+        // an end with no rows at all
+        assert_eq!(r.end_frame(), Err(RowError::Short { rows: 0 }));
     }
 
     #[test]
