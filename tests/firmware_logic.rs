@@ -1,18 +1,20 @@
 //! The firmware's task chain on the host, end to end: YUV422 frames of a synthetic looming
-//! scene → line-by-line luminance extraction into the hand-off's buffers → the aLPLC2
-//! `Network` → the escape `Fsm` with `Odometry` → the safety policy → motor frames, decoded
-//! back by a model of the bottom board. Only the register accesses are missing.
+//! scene → line-by-line luminance extraction streamed into the aLPLC2 `Network` under the
+//! capture policy → the rest of the step at frame complete → `Control` (escape `Fsm` with
+//! `Odometry`) under the safety policy → motor frames, decoded back by a model of the bottom
+//! board. Only the register accesses are missing.
 //!
 //! Checks: stopped while the model primes, wander at cruise power, on an alert the wheel
 //! powers turn away from the threat, and a camera stall (no frame for 150 ms) sends stop
-//! frames.
+//! frames, the network primes again when frames return.
 
 use alvs_host::scenes::{demo_scenes, Scene};
-use alvs_tasks::camera::{self, FrameEnd, Handoff, BYTES_PER_PIXEL, FRAME_BYTES, LINE_BYTES};
-use alvs_tasks::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry, State};
+use alvs_tasks::camera::{self, Capture, FrameEnd, BYTES_PER_PIXEL, FRAME_BYTES, LINE_BYTES};
+use alvs_tasks::control::Control;
+use alvs_tasks::fsm::{Behaviour, FsmParams, HeadingEstimator, State};
 use alvs_tasks::health::{Decision, Fault, Safety, SummaryWindow, PRIME_FRAMES, STALL_MS};
-use alvs_tasks::motor::{self, BoardModel, Head, MotorOutput};
-use alvs_tasks::{Frame, Network, Params, PIXELS, WIDTH};
+use alvs_tasks::motor::{self, BoardModel, Head, MotorFrames};
+use alvs_tasks::{Frame, Network, Perception, PIXELS, WIDTH};
 
 /// Camera frame period, ms (30 fps, rounded down).
 const FRAME_MS: u32 = 33;
@@ -32,7 +34,7 @@ fn to_yuv422(y: &Frame) -> Vec<u8> {
     out
 }
 
-/// What the motor task did in one period.
+/// What the motor side did in one period.
 #[derive(Debug, Clone, Copy)]
 struct Step {
     state: State,
@@ -46,90 +48,106 @@ struct Step {
 /// The firmware's tasks and the bottom board, on the host.
 struct Robot {
     now: u32,
-    handoff: Handoff,
-    buffers: [Frame; camera::BUFFERS],
+    capture: Capture,
     network: Network,
-    fsm: Fsm,
-    odometry: Odometry,
+    /// Whether the network is parked (free for the camera) rather than perception's.
+    parked: bool,
+    /// The supervisor asked for a fresh start of the model (after a fault).
+    reset_requested: bool,
+    control: Control,
     safety: Safety,
     summary: SummaryWindow,
-    motors: MotorOutput,
     board: BoardModel,
-    /// Last command of the FSM, mm/s.
-    command: (f32, f32),
     state: State,
 }
 
 impl Robot {
     fn new() -> Self {
-        let p = FsmParams::default();
         Robot {
             now: 0,
-            handoff: Handoff::new(),
-            buffers: [[0; PIXELS]; camera::BUFFERS],
-            network: Network::new(Params::default()).unwrap(),
-            fsm: Fsm::new(p, Behaviour::Escape),
-            odometry: Odometry::new(p.track_mm, 0.0),
+            capture: Capture::new(),
+            network: Network::paper(),
+            parked: true,
+            reset_requested: false,
+            control: Control::new(FsmParams::default(), Behaviour::Escape),
             safety: Safety::new(),
             summary: SummaryWindow::new(),
-            motors: MotorOutput::new(),
             board: BoardModel::new(),
-            command: (0.0, 0.0),
             state: State::Wander,
         }
     }
 
-    /// DCMI interrupt: one YUV422 frame, line by line.
+    /// DCMI and DMA interrupts: one YUV422 frame, line by line, streamed into the network.
     fn camera_frame(&mut self, yuv: &[u8]) -> FrameEnd {
-        self.handoff.frame_start();
-        for line in yuv.chunks_exact(LINE_BYTES) {
-            let slot = self.handoff.line().expect("a slot for every line");
-            let row = usize::from(slot.row) * WIDTH;
-            let dst = &mut self.buffers[usize::from(slot.buffer)][row..row + WIDTH];
-            camera::luma_line(line, dst).unwrap();
-        }
-        self.handoff.frame_complete()
-    }
-
-    /// Perception and motor control for the newest frame.
-    fn perceive(&mut self) {
-        let Some(d) = self.handoff.take() else {
-            return;
-        };
-        let p = self.network.step(&self.buffers[usize::from(d.buffer)]);
-        self.handoff.release();
-        self.summary.record_frame(1_500_000);
-        self.safety.frame(self.now);
-        let c = self.fsm.step(&p.vm, self.odometry.heading_deg());
-        self.command = (c.left_mm_s, c.right_mm_s);
-        self.state = c.state;
-    }
-
-    /// Motor task: safety decision, frames to the board, odometry of what the wheels do.
-    fn drive(&mut self) -> Step {
-        let decision = self.safety.tick(self.now);
-        if decision.fault.is_some() {
-            // what the firmware does when a fault appears: the model primes again
+        let start = self.capture.frame_start(self.parked);
+        assert!(!start.cut_short);
+        if start.accepted && std::mem::take(&mut self.reset_requested) {
             self.network.reset();
         }
-        let (l, r) = self.command;
-        let frames = self.motors.update(decision.motors_enabled, l, r);
-        for f in &frames {
+        for line in yuv.chunks_exact(LINE_BYTES) {
+            if let Some(_row) = self.capture.line() {
+                let mut y = [0u8; WIDTH];
+                camera::luma_line(line, &mut y).unwrap();
+                self.network.push_row(&y).unwrap();
+            }
+        }
+        let end = self.capture.frame_complete();
+        match end {
+            FrameEnd::Deliver { .. } => self.parked = false,
+            FrameEnd::Invalid(_) => self.network.abort_frame(),
+            FrameEnd::Dropped { .. } => {}
+        }
+        end
+    }
+
+    /// Perception: the rest of the step, then the network is parked again.
+    fn perceive(&mut self) -> Perception {
+        let p = self
+            .network
+            .end_frame()
+            .expect("a delivered frame is whole");
+        self.parked = true;
+        self.summary.record_frame(1_500_000);
+        self.safety.frame(self.now);
+        p
+    }
+
+    fn send(&mut self, frames: &MotorFrames) {
+        for f in frames {
             let d = motor::decode(f).expect("the motor task sends well-formed frames");
             assert_eq!(d.head, Head::Write);
             self.board.apply(f).unwrap();
         }
-        let (l, r) = if decision.motors_enabled {
-            (l, r)
-        } else {
-            (0.0, 0.0)
-        };
-        self.odometry.update(l, r, FRAME_MS as f32 / 1000.0);
+    }
+
+    /// Motor control at frame rate: the safety decision, the FSM, frames to the board.
+    fn motor_control(&mut self, p: &Perception) -> Step {
+        let decision = self.safety.tick(self.now);
+        let (c, frames) = self.control.step(&p.vm, decision.motors_enabled);
+        self.state = c.state;
+        self.send(&frames);
+        self.step(decision)
+    }
+
+    /// Supervisor tick between frames: faults stop the motors and ask the model to restart.
+    fn supervise(&mut self) -> Step {
+        let decision = self.safety.tick(self.now);
+        if decision.fault.is_some() {
+            self.reset_requested = true;
+        }
+        if !decision.motors_enabled && self.control.motors_enabled() {
+            let frames = self.control.stop();
+            self.send(&frames);
+        }
+        self.step(decision)
+    }
+
+    fn step(&self, decision: Decision) -> Step {
         Step {
             state: self.state,
             decision,
             powers: self.board.wheel_powers(),
-            heading: self.odometry.heading_deg(),
+            heading: self.control.heading().heading_deg(),
         }
     }
 
@@ -138,18 +156,18 @@ impl Robot {
         self.now = self.now.wrapping_add(FRAME_MS);
         assert!(matches!(
             self.camera_frame(&to_yuv422(y)),
-            FrameEnd::Ready { .. }
+            FrameEnd::Deliver { .. }
         ));
-        self.perceive();
-        self.drive()
+        let p = self.perceive();
+        self.motor_control(&p)
     }
 
-    /// `ms` without frames, the motor task ticking every `TICK_MS`.
+    /// `ms` without frames, the supervisor ticking every `TICK_MS`.
     fn stall(&mut self, ms: u32) -> Vec<Step> {
         (0..ms / TICK_MS)
             .map(|_| {
                 self.now = self.now.wrapping_add(TICK_MS);
-                self.drive()
+                self.supervise()
             })
             .collect()
     }
@@ -252,7 +270,7 @@ fn escapes_away(name: &str, threat_on_right: bool) {
         "{name}: heading {heading}"
     );
 
-    let summary = robot.summary.close(robot.handoff.counters(), 0);
+    let summary = robot.summary.close(robot.capture.counters(), 0);
     assert_eq!(summary.processed as usize, steps.len());
     assert_eq!((summary.frames as usize, summary.dropped), (steps.len(), 0));
 }
@@ -289,7 +307,7 @@ fn a_camera_stall_sends_stop_frames() {
         }
     }
     // the bytes of one stalled period: zero powers, then the motor drivers off
-    let frames = robot.motors.update(false, 100.0, 100.0);
+    let frames = robot.control.stop();
     let decoded: Vec<_> = frames.iter().map(|f| motor::decode(f).unwrap()).collect();
     assert_eq!(decoded[0].address, motor::REG_POWER_LEFT);
     assert_eq!(decoded[0].data.as_slice(), &[0, 0, 0, 0]);

@@ -100,6 +100,14 @@ pub struct Fields {
 }
 
 impl Fields {
+    /// No field; the first id is 0.
+    pub const fn new() -> Self {
+        Fields {
+            list: heapless::Vec::new(),
+            next_id: 0,
+        }
+    }
+
     /// The fields, oldest first.
     pub fn iter(&self) -> core::slice::Iter<'_, Field> {
         self.list.iter()

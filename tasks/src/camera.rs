@@ -8,28 +8,35 @@
 //! `2x + 2` (one pixel late, 7 bits); here the offset is the single constant [`Y_OFFSET`], and
 //! the model gets all 8 bits. A 99-pixel line is [`LINE_BYTES`] = 198 bytes.
 //!
-//! # Frame hand-off
+//! # Frame capture
 //!
-//! The firmware keeps [`BUFFERS`] = 3 Y-only frames (3 × 7128 B; DMA fills a small YUV line
-//! buffer and the DCMI/DMA interrupt copies each line's Y into the frame being written). Each
-//! buffer has one role at a time:
+//! The firmware keeps no frame buffer: DMA fills a small ring of YUV lines, and the DMA
+//! interrupt pushes each line's luminance straight into the network's retina
+//! ([`crate::Network::push_row`]), which keeps the only copy of a frame (as `P(t−1)`). At
+//! frame complete the perception task takes the network and runs the rest of the step. The
+//! network has one owner at a time:
 //!
 //! ```text
-//!        frame complete             take()
-//! writing ───────────────▶ ready ───────────▶ reading ──▶ (released by take/release)
-//!    ▲                       │ frame complete while still ready:
-//!    └───────────────────────┘ the older ready frame is dropped, its buffer written next
+//!   VSYNC, network parked ──▶ accepted: rows stream into the retina ──▶ frame complete:
+//!        ▲                                                              72 clean rows?
+//!        │                                                 yes ─▶ Deliver: perception owns
+//!        │                                                        the network, runs, parks it
+//!        └──────── parked again ◀──────────────────────────────────────┘
+//!   VSYNC while perception still owns it ──▶ skipped: no row goes anywhere ──▶ Dropped
 //! ```
 //!
-//! **Invariant**: the writing, ready and reading buffers are pairwise distinct. So perception
-//! never reads a buffer the camera writes, a frame is only published after exactly
-//! [`HEIGHT`] lines arrived since its VSYNC with no overrun or sync error (never a frame made
-//! of two halves), and the newest complete frame is the one delivered. Every frame that ends
-//! is counted exactly once: `completed = delivered + dropped + invalidated + (1 if a frame
-//! is waiting in ready)`.
+//! [`Capture`] is that policy as a pure state machine (no pixels): it says which row each line
+//! is, whether a frame is delivered, dropped (perception was still busy when it began) or
+//! invalid (overrun, sync error, wrong line count, cut short). **Invariant**: a delivered frame
+//! is exactly [`HEIGHT`] rows streamed in order since one VSYNC with no error — never a frame
+//! made of two halves; every frame that ends is counted once:
+//! `completed = delivered + dropped + invalidated`. After an invalid frame whose rows were
+//! streamed, the firmware calls [`crate::Network::abort_frame`] (the network starts over).
 //!
-//! [`Handoff`] holds only buffer indices and counters, no pixels: the firmware owns the memory
-//! and calls these methods from the DCMI interrupt and the perception task (under a lock).
+//! Where the paper's firmware drops the *older* of two complete frames, here the frame that
+//! begins while perception is busy is the one dropped: it is the only one that can be, since
+//! the older frame is already inside the network. Perception takes a few ms and the sensor
+//! leaves ≈ 10 ms between frames, so a drop means perception overran (docs/firmware.md).
 
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
 
@@ -139,33 +146,17 @@ fn extract(off: usize, yuv: &[u8], y: &mut [u8]) {
     }
 }
 
-/// Frame buffers the hand-off rotates.
-pub const BUFFERS: usize = 3;
-
-/// Index of a frame buffer, `0..BUFFERS`.
-pub type BufferId = u8;
-
-/// Where the interrupt copies the luminance of the line just received.
+/// How a frame that begins is taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LineSlot {
-    /// The buffer being written.
-    pub buffer: BufferId,
-    /// Row of the frame, `0..HEIGHT`.
-    pub row: u16,
+pub struct Start {
+    /// Its rows go into the network (false: perception is busy, the frame will be dropped).
+    pub accepted: bool,
+    /// A frame still in progress was cut short by this VSYNC: it ended invalid
+    /// ([`Invalid::Restarted`]), and its rows must be dropped from the network.
+    pub cut_short: bool,
 }
 
-/// A frame handed to perception.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Delivery {
-    /// Buffer to read; no one writes it until the next [`Handoff::take`] or
-    /// [`Handoff::release`].
-    pub buffer: BufferId,
-    /// Camera frame number (0-based count of every frame that ended, valid or not); gaps mean
-    /// dropped or invalid frames.
-    pub seq: u32,
-}
-
-/// Why a frame that ended is not published.
+/// Why a frame that ended is not delivered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Invalid {
     /// A DCMI overrun hit the frame.
@@ -184,24 +175,20 @@ pub enum Invalid {
     Restarted,
 }
 
-/// What [`Handoff::frame_complete`] did with the frame.
+/// What [`Capture::frame_complete`] decided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FrameEnd {
-    /// Published in `buffer` for perception.
-    Ready {
-        /// Buffer now ready.
-        buffer: BufferId,
-        /// Its frame number.
+    /// Whole and clean: perception takes the network and finishes the step.
+    Deliver {
+        /// Frame number (0-based count of every frame that ended).
         seq: u32,
     },
-    /// Published, and the older frame perception had not taken yet was dropped.
-    ReadyDroppedOlder {
-        /// Buffer now ready.
-        buffer: BufferId,
-        /// Its frame number.
+    /// Whole, but it began while perception was busy: nothing of it entered the network.
+    Dropped {
+        /// Frame number.
         seq: u32,
     },
-    /// Not published; the buffer is written again.
+    /// Not usable; rows it streamed must be dropped ([`crate::Network::abort_frame`]).
     Invalid(Invalid),
 }
 
@@ -212,7 +199,7 @@ pub struct Counters {
     pub completed: u32,
     /// Frames handed to perception.
     pub delivered: u32,
-    /// Complete frames replaced by a newer one before perception took them.
+    /// Whole frames skipped because perception was still busy when they began.
     pub dropped: u32,
     /// Frames that ended invalid (overrun, sync error, wrong line count, cut short).
     pub invalidated: u32,
@@ -234,52 +221,33 @@ impl Counters {
     };
 }
 
-/// The frame hand-off between the DCMI interrupt and the perception task (see the module
-/// docs for the invariant).
+/// The capture policy between the DCMI/DMA interrupts and the perception task (see the
+/// module docs for the invariant).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Handoff {
-    writing: BufferId,
-    ready: Option<(BufferId, u32)>,
-    reading: Option<BufferId>,
+pub struct Capture {
     in_frame: bool,
+    accepted: bool,
     rows: u16,
     taint: Option<Invalid>,
     counters: Counters,
 }
 
-impl Default for Handoff {
+impl Default for Capture {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl Handoff {
-    /// Camera writing buffer 0, nothing ready, nothing read, no frame started.
+impl Capture {
+    /// No frame started.
     pub const fn new() -> Self {
-        Handoff {
-            writing: 0,
-            ready: None,
-            reading: None,
+        Capture {
             in_frame: false,
+            accepted: false,
             rows: 0,
             taint: None,
             counters: Counters::ZERO,
         }
-    }
-
-    /// The buffer the camera writes.
-    pub fn writing(&self) -> BufferId {
-        self.writing
-    }
-
-    /// The buffer waiting for perception, if any.
-    pub fn ready(&self) -> Option<BufferId> {
-        self.ready.map(|(b, _)| b)
-    }
-
-    /// The buffer perception reads, if any.
-    pub fn reading(&self) -> Option<BufferId> {
-        self.reading
     }
 
     /// The totals.
@@ -287,38 +255,46 @@ impl Handoff {
         self.counters
     }
 
-    /// VSYNC: a new frame starts in the writing buffer. A frame still in progress ends
-    /// invalid ([`Invalid::Restarted`]).
-    pub fn frame_start(&mut self) {
-        if self.in_frame {
-            self.end_invalid(Invalid::Restarted);
-        }
-        self.in_frame = true;
-        self.rows = 0;
-        self.taint = None;
+    /// Whether the frame in progress streams into the network.
+    pub fn accepted(&self) -> bool {
+        self.in_frame && self.accepted
     }
 
-    /// A line arrived: where to put its luminance. `None` outside a frame, or past the last
-    /// row (the frame then ends invalid).
-    pub fn line(&mut self) -> Option<LineSlot> {
+    /// VSYNC: a new frame begins; it is accepted if the network is free (parked, not owned by
+    /// perception).
+    pub fn frame_start(&mut self, network_free: bool) -> Start {
+        let cut_short = self.in_frame;
+        if cut_short {
+            self.end_invalid();
+        }
+        self.in_frame = true;
+        self.accepted = network_free;
+        self.rows = 0;
+        self.taint = None;
+        Start {
+            accepted: network_free,
+            cut_short,
+        }
+    }
+
+    /// A line arrived: the row it is, if it goes into the network. `None` outside a frame, in
+    /// a skipped frame, or past the last row (the frame then ends invalid).
+    pub fn line(&mut self) -> Option<u16> {
         if !self.in_frame {
             return None;
         }
         let row = self.rows;
         self.rows = self.rows.saturating_add(1);
-        (usize::from(row) < HEIGHT).then_some(LineSlot {
-            buffer: self.writing,
-            row,
-        })
+        (self.accepted && usize::from(row) < HEIGHT).then_some(row)
     }
 
-    /// DCMI overrun: counted; the frame being written is invalid.
+    /// DCMI overrun: counted; the frame in progress is invalid.
     pub fn overrun(&mut self) {
         self.counters.overruns = self.counters.overruns.wrapping_add(1);
         self.taint(Invalid::Overrun);
     }
 
-    /// DCMI sync error: counted; the frame being written is invalid.
+    /// DCMI sync error: counted; the frame in progress is invalid.
     pub fn sync_error(&mut self) {
         self.counters.sync_errors = self.counters.sync_errors.wrapping_add(1);
         self.taint(Invalid::SyncError);
@@ -330,8 +306,7 @@ impl Handoff {
         }
     }
 
-    /// Frame complete: publishes the frame if it is whole and clean, else writes the same
-    /// buffer again.
+    /// Frame complete: delivered if whole, clean and accepted.
     pub fn frame_complete(&mut self) -> FrameEnd {
         let why = if !self.in_frame {
             Some(Invalid::NotStarted)
@@ -343,50 +318,26 @@ impl Handoff {
             None
         };
         if let Some(why) = why {
-            self.end_invalid(why);
+            self.end_invalid();
             return FrameEnd::Invalid(why);
         }
         self.in_frame = false;
         let seq = self.counters.completed;
         self.counters.completed = seq.wrapping_add(1);
-        let done = self.writing;
-        match self.ready.replace((done, seq)) {
-            Some((older, _)) => {
-                self.counters.dropped = self.counters.dropped.wrapping_add(1);
-                self.writing = older;
-                FrameEnd::ReadyDroppedOlder { buffer: done, seq }
-            }
-            None => {
-                let reading = self.reading;
-                // With 3 buffers exactly one is neither `done` nor `reading`.
-                self.writing = (0..BUFFERS as BufferId)
-                    .find(|&b| b != done && Some(b) != reading)
-                    .unwrap_or(done);
-                FrameEnd::Ready { buffer: done, seq }
-            }
+        if self.accepted {
+            self.counters.delivered = self.counters.delivered.wrapping_add(1);
+            FrameEnd::Deliver { seq }
+        } else {
+            self.counters.dropped = self.counters.dropped.wrapping_add(1);
+            FrameEnd::Dropped { seq }
         }
     }
 
-    fn end_invalid(&mut self, _why: Invalid) {
+    fn end_invalid(&mut self) {
         self.in_frame = false;
         self.taint = None;
         self.counters.completed = self.counters.completed.wrapping_add(1);
         self.counters.invalidated = self.counters.invalidated.wrapping_add(1);
-    }
-
-    /// Perception asks for the newest frame: the buffer it was reading (if any) is released,
-    /// and the ready frame (if any) becomes the one it reads.
-    pub fn take(&mut self) -> Option<Delivery> {
-        self.reading = None;
-        let (buffer, seq) = self.ready.take()?;
-        self.reading = Some(buffer);
-        self.counters.delivered = self.counters.delivered.wrapping_add(1);
-        Some(Delivery { buffer, seq })
-    }
-
-    /// Perception is done with its buffer.
-    pub fn release(&mut self) {
-        self.reading = None;
     }
 }
 
@@ -465,19 +416,13 @@ mod tests {
         }
     }
 
-    /// A whole clean frame into the writing buffer.
-    fn capture(h: &mut Handoff) -> FrameEnd {
-        h.frame_start();
+    /// A whole clean frame: every line is the next row when accepted, none otherwise.
+    fn capture(c: &mut Capture, free: bool) -> FrameEnd {
+        assert!(!c.frame_start(free).cut_short);
         for r in 0..HEIGHT {
-            assert_eq!(
-                h.line(),
-                Some(LineSlot {
-                    buffer: h.writing(),
-                    row: r as u16
-                })
-            );
+            assert_eq!(c.line(), free.then_some(r as u16));
         }
-        h.frame_complete()
+        c.frame_complete()
     }
 
     fn counters(c: u32, d: u32, dr: u32, i: u32, o: u32, s: u32) -> Counters {
@@ -492,107 +437,83 @@ mod tests {
     }
 
     #[test]
-    fn frames_rotate_through_the_three_buffers() {
-        let mut h = Handoff::new();
-        assert_eq!((h.writing(), h.ready(), h.reading()), (0, None, None));
-        assert_eq!(h.take(), None);
-        assert_eq!(capture(&mut h), FrameEnd::Ready { buffer: 0, seq: 0 });
-        assert_eq!((h.writing(), h.ready(), h.reading()), (1, Some(0), None));
-        assert_eq!(h.take(), Some(Delivery { buffer: 0, seq: 0 }));
-        assert_eq!((h.writing(), h.ready(), h.reading()), (1, None, Some(0)));
-        // perception busy on 0: frame 1 goes to ready, the camera moves to 2
-        assert_eq!(capture(&mut h), FrameEnd::Ready { buffer: 1, seq: 1 });
-        assert_eq!((h.writing(), h.ready(), h.reading()), (2, Some(1), Some(0)));
-        // still busy: frame 2 replaces frame 1, whose buffer is written next
-        assert_eq!(
-            capture(&mut h),
-            FrameEnd::ReadyDroppedOlder { buffer: 2, seq: 2 }
-        );
-        assert_eq!((h.writing(), h.ready(), h.reading()), (1, Some(2), Some(0)));
-        // perception finishes 0 and takes the newest
-        assert_eq!(h.take(), Some(Delivery { buffer: 2, seq: 2 }));
-        assert_eq!((h.writing(), h.ready(), h.reading()), (1, None, Some(2)));
-        h.release();
-        assert_eq!((h.writing(), h.ready(), h.reading()), (1, None, None));
-        assert_eq!(capture(&mut h), FrameEnd::Ready { buffer: 1, seq: 3 });
-        assert_eq!((h.writing(), h.ready(), h.reading()), (0, Some(1), None));
-        assert_eq!(h.counters(), counters(4, 2, 1, 0, 0, 0));
+    fn frames_are_delivered_when_the_network_is_free_and_dropped_whole_when_not() {
+        let mut c = Capture::new();
+        assert_eq!(capture(&mut c, true), FrameEnd::Deliver { seq: 0 });
+        assert_eq!(capture(&mut c, false), FrameEnd::Dropped { seq: 1 });
+        assert_eq!(capture(&mut c, true), FrameEnd::Deliver { seq: 2 });
+        assert_eq!(c.counters(), counters(3, 2, 1, 0, 0, 0));
     }
 
     #[test]
-    fn take_without_a_new_frame_releases_and_returns_nothing() {
-        let mut h = Handoff::new();
-        capture(&mut h);
-        h.take();
-        assert_eq!(h.take(), None);
-        assert_eq!(h.reading(), None);
-    }
-
-    #[test]
-    fn overrun_and_sync_error_invalidate_the_frame_being_written() {
-        let mut h = Handoff::new();
-        h.frame_start();
-        h.line();
-        h.overrun();
+    fn overrun_and_sync_error_invalidate_the_frame_in_progress() {
+        let mut c = Capture::new();
+        c.frame_start(true);
+        c.line();
+        c.overrun();
         for _ in 1..HEIGHT {
-            h.line();
+            c.line();
         }
-        h.sync_error();
-        assert_eq!(h.frame_complete(), FrameEnd::Invalid(Invalid::Overrun));
-        assert_eq!((h.writing(), h.ready()), (0, None));
-        assert_eq!(h.counters(), counters(1, 0, 0, 1, 1, 1));
-        // the next frame is clean again
-        assert_eq!(capture(&mut h), FrameEnd::Ready { buffer: 0, seq: 1 });
-        h.frame_start();
-        h.sync_error();
-        assert_eq!(h.frame_complete(), FrameEnd::Invalid(Invalid::SyncError));
+        c.sync_error();
+        assert_eq!(c.frame_complete(), FrameEnd::Invalid(Invalid::Overrun));
+        assert_eq!(c.counters(), counters(1, 0, 0, 1, 1, 1));
+        assert_eq!(capture(&mut c, true), FrameEnd::Deliver { seq: 1 });
+        c.frame_start(true);
+        c.sync_error();
+        assert_eq!(c.frame_complete(), FrameEnd::Invalid(Invalid::SyncError));
         // errors between frames are counted but taint nothing
-        h.overrun();
-        assert_eq!(
-            capture(&mut h),
-            FrameEnd::ReadyDroppedOlder { buffer: 1, seq: 3 }
-        );
-        assert_eq!(h.counters(), counters(4, 0, 1, 2, 2, 2));
+        c.overrun();
+        assert_eq!(capture(&mut c, true), FrameEnd::Deliver { seq: 3 });
+        assert_eq!(c.counters(), counters(4, 2, 0, 2, 2, 2));
+        // an error in a skipped frame: invalid rather than dropped
+        c.frame_start(false);
+        c.overrun();
+        assert_eq!(c.frame_complete(), FrameEnd::Invalid(Invalid::Overrun));
     }
 
     #[test]
     fn frames_with_wrong_line_counts_or_no_start_are_invalid() {
-        let mut h = Handoff::new();
+        let mut c = Capture::new();
         // capture began mid-frame
-        assert_eq!(h.line(), None);
-        assert_eq!(h.frame_complete(), FrameEnd::Invalid(Invalid::NotStarted));
+        assert_eq!(c.line(), None);
+        assert_eq!(c.frame_complete(), FrameEnd::Invalid(Invalid::NotStarted));
         // short frame
-        h.frame_start();
-        h.line();
+        c.frame_start(true);
+        c.line();
         assert_eq!(
-            h.frame_complete(),
+            c.frame_complete(),
             FrameEnd::Invalid(Invalid::WrongLines { rows: 1 })
         );
-        // long frame: the 73rd line has no slot
-        h.frame_start();
+        // long frame: the 73rd line is no row
+        c.frame_start(true);
         for _ in 0..HEIGHT {
-            assert!(h.line().is_some());
+            assert!(c.line().is_some());
         }
-        assert_eq!(h.line(), None);
+        assert_eq!(c.line(), None);
         assert_eq!(
-            h.frame_complete(),
+            c.frame_complete(),
             FrameEnd::Invalid(Invalid::WrongLines { rows: 73 })
         );
-        // a VSYNC in the middle of a frame: the first half is never published
-        h.frame_start();
+        // a VSYNC in the middle of a frame: the first half is cut short, never delivered
+        c.frame_start(true);
         for _ in 0..HEIGHT / 2 {
-            h.line();
-        }
-        h.frame_start();
-        for _ in 0..HEIGHT / 2 {
-            h.line();
+            c.line();
         }
         assert_eq!(
-            h.frame_complete(),
+            c.frame_start(true),
+            Start {
+                accepted: true,
+                cut_short: true
+            }
+        );
+        for _ in 0..HEIGHT / 2 {
+            c.line();
+        }
+        assert_eq!(
+            c.frame_complete(),
             FrameEnd::Invalid(Invalid::WrongLines { rows: 36 })
         );
-        assert_eq!(h.counters(), counters(5, 0, 0, 5, 0, 0));
-        assert_eq!((h.writing(), h.ready()), (0, None));
+        assert_eq!(c.counters(), counters(5, 0, 0, 5, 0, 0));
     }
 
     #[derive(Debug, Clone, Copy)]
@@ -603,8 +524,7 @@ mod tests {
         Complete,
         Overrun,
         SyncError,
-        Take,
-        Release,
+        Park,
     }
 
     fn ev() -> impl Strategy<Value = Ev> {
@@ -615,74 +535,54 @@ mod tests {
             3 => Just(Ev::Complete),
             1 => Just(Ev::Overrun),
             1 => Just(Ev::SyncError),
-            3 => Just(Ev::Take),
-            1 => Just(Ev::Release),
+            3 => Just(Ev::Park),
         ]
     }
 
     proptest! {
         #[test]
         fn the_invariant_holds_for_any_event_sequence(evs in prop::collection::vec(ev(), 0..300)) {
-            let mut h = Handoff::new();
+            let mut c = Capture::new();
+            // the network as the firmware drives it: rows streamed since the last start,
+            // and who owns it
+            let mut streamed: Option<u16> = None;
+            let mut parked = true;
             let mut last_seq: Option<u32> = None;
-            // frame each buffer holds, written line by line: (seq of its VSYNC, rows)
-            let mut starts = 0u32;
-            let mut content: [Option<(u32, u16)>; BUFFERS] = [None; BUFFERS];
             for e in evs {
                 match e {
                     Ev::Start => {
-                        h.frame_start();
-                        starts += 1;
+                        let s = c.frame_start(parked);
+                        prop_assert_eq!(s.accepted, parked);
+                        streamed = s.accepted.then_some(0);
                     }
                     Ev::Line | Ev::Lines => {
                         let n = if matches!(e, Ev::Line) { 1 } else { HEIGHT };
                         for _ in 0..n {
-                            if let Some(s) = h.line() {
-                                prop_assert_ne!(Some(s.buffer), h.reading());
-                                prop_assert_ne!(Some(s.buffer), h.ready());
-                                let c = &mut content[usize::from(s.buffer)];
-                                // a buffer's rows come from one VSYNC, in order
-                                *c = match *c {
-                                    Some((v, r)) if v == starts && r == s.row => Some((v, r + 1)),
-                                    _ if s.row == 0 => Some((starts, 1)),
-                                    _ => None,
-                                };
+                            if let Some(row) = c.line() {
+                                // rows reach the network only while it is not perception's,
+                                // in order from one VSYNC
+                                prop_assert!(parked);
+                                prop_assert_eq!(Some(row), streamed);
+                                streamed = Some(row + 1);
                             }
                         }
                     }
-                    Ev::Complete => {
-                        if let FrameEnd::Ready { buffer, .. }
-                        | FrameEnd::ReadyDroppedOlder { buffer, .. } = h.frame_complete()
-                        {
-                            // published frames are whole and from a single VSYNC
-                            prop_assert_eq!(
-                                content[usize::from(buffer)],
-                                Some((starts, HEIGHT as u16))
-                            );
+                    Ev::Complete => match c.frame_complete() {
+                        FrameEnd::Deliver { seq } => {
+                            prop_assert_eq!(streamed, Some(HEIGHT as u16));
+                            prop_assert!(last_seq.is_none_or(|s| seq > s));
+                            last_seq = Some(seq);
+                            parked = false;
+                            streamed = None;
                         }
-                    }
-                    Ev::Overrun => h.overrun(),
-                    Ev::SyncError => h.sync_error(),
-                    Ev::Take => {
-                        if let Some(d) = h.take() {
-                            prop_assert_ne!(d.buffer, h.writing());
-                            // never the same frame twice, newest first
-                            prop_assert!(last_seq.is_none_or(|s| d.seq > s));
-                            last_seq = Some(d.seq);
-                        }
-                    }
-                    Ev::Release => h.release(),
+                        FrameEnd::Dropped { .. } | FrameEnd::Invalid(_) => streamed = None,
+                    },
+                    Ev::Overrun => c.overrun(),
+                    Ev::SyncError => c.sync_error(),
+                    Ev::Park => parked = true,
                 }
-                let (w, rd, rr) = (h.writing(), h.ready(), h.reading());
-                prop_assert!(usize::from(w) < BUFFERS);
-                prop_assert_ne!(Some(w), rd);
-                prop_assert_ne!(Some(w), rr);
-                prop_assert!(rd.is_none() || rd != rr);
-                let c = h.counters();
-                prop_assert_eq!(
-                    c.delivered + c.dropped + c.invalidated + u32::from(rd.is_some()),
-                    c.completed
-                );
+                let k = c.counters();
+                prop_assert_eq!(k.delivered + k.dropped + k.invalidated, k.completed);
             }
         }
     }

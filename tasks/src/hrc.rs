@@ -91,14 +91,14 @@ pub struct LmScale {
 
 impl LmScale {
     /// Factors for `p` (assumed validated).
-    pub fn new(p: &Params) -> Self {
-        let gw = f32::from(p.gain) * p.w;
+    pub const fn new(p: &Params) -> Self {
+        let gw = p.gain as f32 * p.w;
         LmScale {
             t4_q16: (gw * gw * 65536.0 + 0.5) as i64,
-            t5_q16: i64::from(p.gain) * i64::from(p.gain) * 65536,
-            shift: 16 + u32::from(p.lm_shift),
-            n: usize::from(p.n),
-            s: usize::from(p.s),
+            t5_q16: p.gain as i64 * p.gain as i64 * 65536,
+            shift: 16 + p.lm_shift as u32,
+            n: p.n as usize,
+            s: p.s as usize,
         }
     }
 }

@@ -19,6 +19,8 @@
 //! | strength, threat centroid, escape angles | [`visuomotor`] | Eqs. (11)–(15) |
 //! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
 //! | telemetry records | [`telemetry`] | — |
+//! | the motor-control task: FSM, heading, motor frames | [`control`] | Sec. II-B |
+//! | one timed frame of perception and control | [`bench`] | — |
 //!
 //! The firmware's logic that is not a register access, tested on the host:
 //!
@@ -32,7 +34,9 @@
 #![warn(missing_docs)]
 
 pub mod attention;
+pub mod bench;
 pub mod camera;
+pub mod control;
 pub mod frame;
 pub mod fsm;
 pub mod health;

@@ -104,6 +104,20 @@ impl Network {
         })
     }
 
+    /// The network with the paper's parameters ([`Params::PAPER`]), as a constant: the
+    /// firmware places it in a `static` without building 35 KB on the stack first.
+    pub const fn paper() -> Self {
+        const P: Params = Params::PAPER;
+        Network {
+            params: P,
+            weights: Weights::new(&P),
+            scale: LmScale::new(&P),
+            retina: Retina::new(delay_q8(&P)),
+            frames: 0,
+            fields: Fields::new(),
+        }
+    }
+
     /// Replaces the parameters, keeping the state (fields, history).
     pub fn set_params(&mut self, params: Params) -> Result<(), ParamError> {
         params.validate()?;
@@ -433,7 +447,12 @@ mod tests {
         assert_eq!(&seen[..], &[Stage::Retina], "priming ends after the retina");
         seen.clear();
         n.step_marked(&square(1), &mut |s| seen.push(s).unwrap());
-        let all = [Stage::Retina, Stage::Attention, Stage::Motion, Stage::Visuomotor];
+        let all = [
+            Stage::Retina,
+            Stage::Attention,
+            Stage::Motion,
+            Stage::Visuomotor,
+        ];
         assert_eq!(&seen[..], &all);
     }
 

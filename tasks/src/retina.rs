@@ -159,16 +159,32 @@ impl Retina {
     /// through the delay line first.
     fn finish_row(&mut self, y: usize) {
         const ZERO: [u16; WIDTH] = [0; WIDTH];
-        let above = if y == 0 { &ZERO } else { &self.h_on[(y + 2) % 3] };
-        let below = if y + 1 == HEIGHT { &ZERO } else { &self.h_on[(y + 1) % 3] };
+        let above = if y == 0 {
+            &ZERO
+        } else {
+            &self.h_on[(y + 2) % 3]
+        };
+        let below = if y + 1 == HEIGHT {
+            &ZERO
+        } else {
+            &self.h_on[(y + 1) % 3]
+        };
         finish(
             &mut self.on[y * WIDTH..(y + 1) * WIDTH],
             &mut self.on_d[y * WIDTH..(y + 1) * WIDTH],
             [above, &self.h_on[y % 3], below],
             self.delay_q8,
         );
-        let above = if y == 0 { &ZERO } else { &self.h_off[(y + 2) % 3] };
-        let below = if y + 1 == HEIGHT { &ZERO } else { &self.h_off[(y + 1) % 3] };
+        let above = if y == 0 {
+            &ZERO
+        } else {
+            &self.h_off[(y + 2) % 3]
+        };
+        let below = if y + 1 == HEIGHT {
+            &ZERO
+        } else {
+            &self.h_off[(y + 1) % 3]
+        };
         finish(
             &mut self.off[y * WIDTH..(y + 1) * WIDTH],
             &mut self.off_d[y * WIDTH..(y + 1) * WIDTH],
@@ -197,14 +213,19 @@ impl Retina {
 #[inline(always)]
 fn finish(out: &mut [u8], delayed: &mut [u8], rows: [&[u16; WIDTH]; 3], gain_q8: i32) {
     let [a, m, b] = rows;
-    for (x, (o, d)) in out.iter_mut().zip(delayed.iter_mut()).enumerate().take(WIDTH) {
+    for (x, (o, d)) in out
+        .iter_mut()
+        .zip(delayed.iter_mut())
+        .enumerate()
+        .take(WIDTH)
+    {
         *d = delay_step(*d, *o, gain_q8);
         *o = div9(a[x] + m[x] + b[x]);
     }
 }
 
 /// `1/C_d` in Q8 (256 = a pure one-frame delay).
-pub fn delay_q8(p: &Params) -> i32 {
+pub const fn delay_q8(p: &Params) -> i32 {
     (256.0 / p.c_d + 0.5) as i32
 }
 
@@ -250,7 +271,12 @@ pub fn on_off_mean(cur: &Frame, prev: &Frame, on: &mut [u8; PIXELS], off: &mut [
     for y in 0..HEIGHT {
         let below = (y + 1) % 3;
         if y + 1 < HEIGHT {
-            row_sums(row(cur, y + 1), row(prev, y + 1), &mut h_on[below], &mut h_off[below]);
+            row_sums(
+                row(cur, y + 1),
+                row(prev, y + 1),
+                &mut h_on[below],
+                &mut h_off[below],
+            );
         } else {
             h_on[below] = [0; WIDTH];
             h_off[below] = [0; WIDTH];
@@ -300,10 +326,10 @@ pub struct Weights {
 
 impl Weights {
     /// Factors for `p` (assumed validated).
-    pub fn new(p: &Params) -> Self {
-        let g = u32::from(p.gain);
+    pub const fn new(p: &Params) -> Self {
+        let g = p.gain as u32;
         Weights {
-            on_q8: (f32::from(p.gain) * p.w * 256.0 + 0.5) as u32,
+            on_q8: (p.gain as f32 * p.w * 256.0 + 0.5) as u32,
             off_q8: g * 256,
         }
     }
@@ -422,7 +448,10 @@ mod tests {
             r.push_row(row.try_into().unwrap()).unwrap();
         }
         assert_eq!(r.end_frame(), Err(RowError::Short { rows: 10 }));
-        assert!(!r.primed(), "a torn frame is never used: the retina starts over");
+        assert!(
+            !r.primed(),
+            "a torn frame is never used: the retina starts over"
+        );
         assert_eq!(stream(&mut r, &noise(4)), Ok(false), "primes");
         assert_eq!(stream(&mut r, &noise(5)), Ok(true));
         // too many: the 73rd row is refused, the frame still ends whole

@@ -1,0 +1,117 @@
+//! The motor-control task's body: the escape FSM once per frame, steered by a heading estimate,
+//! and the UART frames that set the bottom board's wheel powers.
+//!
+//! The heading estimate is behind [`HeadingEstimator`]: [`Odometry`] from the commanded wheel
+//! speeds by default (what the firmware has until the IMU is wired), a simulated gyro in the
+//! arena. It advances with what the wheels were *allowed* to do: nothing while the safety
+//! policy holds the motors.
+
+use crate::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
+use crate::motor::{MotorFrames, MotorOutput};
+use crate::visuomotor::Visuomotor;
+
+/// Camera frame period, seconds (30 fps): the period of [`Control::step`].
+pub const FRAME_PERIOD_S: f32 = 1.0 / 30.0;
+
+/// FSM, heading estimate and motor output of one robot.
+#[derive(Debug, Clone)]
+pub struct Control<H = Odometry> {
+    fsm: Fsm,
+    heading: H,
+    motors: MotorOutput,
+}
+
+impl Control<Odometry> {
+    /// Odometry over the FSM's wheel track, starting at heading 0.
+    pub fn new(params: FsmParams, behaviour: Behaviour) -> Self {
+        let heading = Odometry::new(params.track_mm, 0.0);
+        Control::with_heading(Fsm::new(params, behaviour), heading)
+    }
+}
+
+impl<H: HeadingEstimator> Control<H> {
+    /// Any FSM and heading estimate; the motors start disabled.
+    pub fn with_heading(fsm: Fsm, heading: H) -> Self {
+        Control {
+            fsm,
+            heading,
+            motors: MotorOutput::new(),
+        }
+    }
+
+    /// One frame: the FSM's transition on `vm` and its wheel speeds, and the frames to send.
+    /// With `enable` false (priming, a fault) the frames stop the motors and the heading
+    /// estimate sees still wheels; the FSM still runs, so it is current when motion resumes.
+    pub fn step(&mut self, vm: &Visuomotor, enable: bool) -> (MotorCommand, MotorFrames) {
+        let c = self.fsm.step(vm, self.heading.heading_deg());
+        let frames = self.motors.update(enable, c.left_mm_s, c.right_mm_s);
+        let (l, r) = if enable {
+            (c.left_mm_s, c.right_mm_s)
+        } else {
+            (0.0, 0.0)
+        };
+        self.heading.update(l, r, FRAME_PERIOD_S);
+        (c, frames)
+    }
+
+    /// The frames that stop the motors now (a fault between frames).
+    pub fn stop(&mut self) -> MotorFrames {
+        self.motors.update(false, 0.0, 0.0)
+    }
+
+    /// The FSM.
+    pub fn fsm(&self) -> &Fsm {
+        &self.fsm
+    }
+
+    /// The heading estimate.
+    pub fn heading(&self) -> &H {
+        &self.heading
+    }
+
+    /// Whether the motors were last left enabled.
+    pub fn motors_enabled(&self) -> bool {
+        self.motors.enabled()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fsm::State;
+    use crate::motor::{BoardModel, POWER_PER_MM_S};
+
+    fn quiet() -> Visuomotor {
+        Visuomotor::from_fields(core::iter::empty(), &crate::Params::PAPER)
+    }
+
+    #[test]
+    fn wanders_at_cruise_power_once_enabled_and_stops_when_disabled() {
+        let mut c = Control::new(FsmParams::default(), Behaviour::Escape);
+        let mut board = BoardModel::new();
+        let (cmd, frames) = c.step(&quiet(), false);
+        board.apply_all(&frames).unwrap();
+        assert_eq!(cmd.state, State::Wander);
+        assert!(!board.enabled() && board.powers() == (0, 0));
+        let (_, frames) = c.step(&quiet(), true);
+        board.apply_all(&frames).unwrap();
+        let cruise = (100.0 * POWER_PER_MM_S) as i16;
+        assert!(board.enabled());
+        assert_eq!(board.wheel_powers(), (cruise, cruise));
+        assert_eq!(c.heading().heading_deg(), 0.0, "straight ahead");
+        board.apply_all(&c.stop()).unwrap();
+        assert!(!board.enabled() && !c.motors_enabled());
+    }
+
+    #[test]
+    fn the_heading_only_moves_with_enabled_wheels() {
+        let mut c = Control::new(FsmParams::default(), Behaviour::Swarm);
+        // a strong alert makes the swarm variant spin
+        let alert = Visuomotor::from_fields([(10u8, 90_000u32)].into_iter(), &crate::Params::PAPER);
+        assert!(alert.alert);
+        c.step(&alert, false);
+        assert_eq!(c.heading().heading_deg(), 0.0, "held motors: no turn");
+        c.step(&alert, true);
+        assert!(c.heading().heading_deg().abs() > 1.0, "spinning");
+    }
+}
