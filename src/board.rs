@@ -64,3 +64,58 @@ pub type SccbSdaPin<MODE = gpio::DefaultMode> = gpio::PE2<MODE>;
 /// Source: HARDWARE.md, "Camera: OV7670 over DCMI". Verify at bring-up: clock bursts on PE3 at
 /// boot (≤ 50 kHz, see `camera::sccb::SCCB_HALF_PERIOD_US`).
 pub type SccbSclPin<MODE = gpio::DefaultMode> = gpio::PE3<MODE>;
+
+// ---------------------------------------------------------------------------------------------
+// Camera capture: DCMI pins, polarities, crop window, DMA. HARDWARE.md, "Camera: OV7670 over DCMI".
+// ---------------------------------------------------------------------------------------------
+
+/// DCMI data and sync pins, alternate function 13: D0 PC6, D1 PC7, D2 PE0, D3 PE1, D4 PE4,
+/// D5 PB6, D6 PE5, D7 PE6, HSYNC (the sensor's HREF) PA4, VSYNC PB7, PIXCLK PA6.
+///
+/// Source: HARDWARE.md. Verify at bring-up: PIXCLK and HREF toggle on the scope once XCLK runs;
+/// a wrong data pin shows as a stuck bit in the first frame (telemetry of a still scene).
+pub const DCMI_AF: u8 = 13;
+
+/// DCMI samples data on the rising PIXCLK edge (`PCKPOL = 1`). The OV7670 changes data on
+/// the falling edge by default (COM10 bit 4 = 0). Verify at bring-up (a wrong edge gives noisy
+/// or shifted pixels).
+pub const DCMI_PIXCLK_RISING: bool = true;
+
+/// VSYNC level during which data is *not* valid: high (`VSPOL = 1`); the OV7670 pulses VSYNC
+/// high between frames by default (COM10 bit 1 = 0). Verify at bring-up.
+pub const DCMI_VSYNC_BLANK_HIGH: bool = true;
+
+/// HSYNC (HREF) level during which data is *not* valid: low (`HSPOL = 0`); the OV7670's HREF
+/// is high during active pixels. Verify at bring-up.
+pub const DCMI_HREF_BLANK_HIGH: bool = false;
+
+/// Crop window: first captured pixel clock of a line (DCMI counts 2 clocks a pixel in 8-bit
+/// YUV422) and first captured line. HARDWARE.md does not say how the public firmware gets
+/// 99x72 out of the sensor; the scaling registers resemble QQCIF, so the window starts at the
+/// top-left and takes 99x72. Verify at bring-up: scope HREF/VSYNC, count PIXCLKs per HREF and
+/// HREFs per VSYNC, then centre the window in what the sensor sends.
+pub const DCMI_CROP_X_CLOCKS: u16 = 0;
+/// First captured line of the crop window (see [`DCMI_CROP_X_CLOCKS`]).
+pub const DCMI_CROP_Y_LINES: u16 = 0;
+
+/// DMA2 stream and channel of the DCMI (RM0090 table 43: DMA2 stream 1 channel 1).
+pub const DCMI_DMA_STREAM: usize = 1;
+/// See [`DCMI_DMA_STREAM`].
+pub const DCMI_DMA_CHANNEL: u8 = 1;
+
+// ---------------------------------------------------------------------------------------------
+// Bottom board (motors): UART. HARDWARE.md, "Motion: the Colias basic unit".
+// ---------------------------------------------------------------------------------------------
+
+/// Transmit pin of the bottom-board link: PC10 (UART4_TX, AF8).
+///
+/// Source: HARDWARE.md ("UART4 PC10/PC11 at 38400 8N1 in older firmware; UART2 in the 2025
+/// firmware, baud not published"). Only TX is used: frames are sent with the no-ack head.
+/// Verify at bring-up: bytes on PC10 at the baud below when the robot wanders.
+pub type MotorTxPin<MODE = gpio::DefaultMode> = gpio::PC10<MODE>;
+
+/// Baud rate of the bottom-board link, 8N1. Verify at bring-up (see [`MotorTxPin`]).
+pub const MOTOR_BAUD: u32 = 38_400;
+
+/// Bytes the motor link can hold queued (a frame period sends ≤ 3 frames of ≤ 12 bytes).
+pub const MOTOR_QUEUE_BYTES: usize = 128;

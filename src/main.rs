@@ -1,56 +1,106 @@
 //! # alvs-firmware: RTIC 2 firmware for the Colias sense board (STM32F427VI)
 //!
-//! This firmware so far only brings the board up:
+//! Camera in, escape out, telemetry over RTT. Tasks, highest priority first (docs/firmware.md
+//! has the diagram and what each shares):
 //!
-//! - configures the clocks (25 MHz HSE -> 180 MHz SYSCLK, see [`board`]);
-//! - sets up RTT with two up channels, 0 "log" (text; also where panic messages go) and
-//!   1 "telemetry" (reserved: nothing is written to it yet);
-//! - prints a boot banner with the crate version and the clocks actually achieved;
-//! - starts the camera's XCLK and configures the OV7670 over SCCB ([`camera`]), then reports
-//!   its id or a clear `ERROR camera: ...` line; the firmware runs on without a camera;
-//! - prints the Table I thresholds of `alvs_tasks::Params::default()` (which proves the model
-//!   crate links);
-//! - then sleeps in `idle`.
+//! | task | priority | runs on | does |
+//! |---|---|---|---|
+//! | `uart4` | 5 | UART4 TXE | feeds the motor link one byte at a time |
+//! | `dcmi`, `dma_lines` | 4 | DCMI / DMA2 stream 1 interrupts | frame start/complete/overrun; lines stream into the retina |
+//! | `motor_control`, `supervisor` | 3 | each perception / every 10 ms | escape FSM → motor frames; safety policy, watchdog |
+//! | `perception` | 2 | each delivered frame | the rest of the aLPLC2 step, DWT-timed |
+//! | `telemetry`, `summary` | 1 | each record / every second | RTT channel 1 lines, channel 0 summary |
 //!
-//! It does **not** yet capture frames (DCMI/DMA), run the aLPLC2 network, send telemetry or
-//! drive the motors: those come later.
-//!
+//! Everything that is not a register access lives in `alvs-tasks` and is tested on the host.
 //! Flash and watch the log with `cargo embed --release` (see `Embed.toml`).
 #![no_std]
 #![no_main]
 
+mod bench;
 mod board;
 mod camera;
+mod capture;
+mod fault;
+mod motor_link;
 
-// A panic prints its message over RTT (the print channel, up channel 0 "log"; lost if it happens
-// before `rtt_init!` in `init`), then executes `udf`: the core ends in cortex-m-rt's default
-// HardFault handler, a loop with interrupts disabled. Stopping the motors on panic comes with the
-// motor driver (later issue): this firmware does not drive them at all.
+// A panic prints its message over RTT (up channel 0 "log"), then `udf` lands in the HardFault
+// handler of `fault`, which stops the motors and waits for the watchdog reset.
 use panic_probe as _;
 
-// Dispatchers for the software tasks of later issues (none exists yet): the interrupts of SPI5 and
-// SPI6, peripherals this firmware does not use and HARDWARE.md assigns nothing to. Re-check when
-// the bottom-board link and the IMU are wired up.
-#[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [SPI5, SPI6])]
+/// Records dropped on the way to the host: telemetry queue full, or RTT buffer full because no
+/// probe reads it (the robot never waits for the host).
+static RTT_DROPPED: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU32::new(0);
+
+/// Depth of the queue from motor control to the telemetry task.
+const TELEMETRY_QUEUE: usize = 4;
+
+// Dispatchers for the software tasks (priorities 1, 2, 3): the interrupts of SPI4, SPI5 and
+// SPI6, peripherals this firmware does not use and HARDWARE.md assigns nothing to.
+// RTIC's generated `spawn` returns its message in `Err`: a `Perception` (≈ 240 B) for motor
+// control, copied once per frame; boxing is not an option without a heap.
+#[allow(clippy::result_large_err)]
+#[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [SPI4, SPI5, SPI6])]
 mod app {
-    use crate::{board, camera};
+    use crate::capture::FrameIn;
+    use crate::motor_link::MotorLink;
+    use crate::{bench, board, camera, RTT_DROPPED, TELEMETRY_QUEUE};
+    use alvs_tasks::camera::{Counters, FrameEnd};
+    use alvs_tasks::control::Control;
+    use alvs_tasks::fsm::{Behaviour, FsmParams};
+    use alvs_tasks::health::{Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS};
+    use alvs_tasks::telemetry::Record;
+    use alvs_tasks::{Network, Perception};
+    use core::sync::atomic::Ordering;
+    use cortex_m::peripheral::DWT;
+    // The HAL's prelude (its fugit) for clocks and the watchdog; of the monotonic's prelude
+    // only the macro and the trait, with its own duration type (another fugit version).
+    use rtic_monotonics::systick::prelude::{systick_monotonic, Monotonic};
+    use rtic_sync::channel::{Receiver, Sender};
+    use rtic_sync::make_channel;
     use rtt_target::{rprintln, rtt_init, set_print_channel, UpChannel};
-    use stm32f4xx_hal::{prelude::*, rcc::Config};
+    use stm32f4xx_hal::prelude::*;
+    use stm32f4xx_hal::serial::SerialExt;
+    use stm32f4xx_hal::watchdog::IndependentWatchdog;
+    use stm32f4xx_hal::{rcc::Config, time::Bps};
+
+    systick_monotonic!(Mono, 1_000);
+    type MonoDuration = <Mono as Monotonic>::Duration;
+
+    /// Milliseconds since boot (wraps after 49 days; every user subtracts with wrapping).
+    fn now_ms() -> u32 {
+        Mono::now().ticks()
+    }
 
     #[shared]
-    struct Shared {}
+    struct Shared {
+        /// Camera side: DCMI, capture policy, the network while rows stream in.
+        #[lock_free]
+        frames: FrameIn,
+        /// The network when perception has finished with it, waiting for the next VSYNC.
+        parked: Option<&'static mut Network>,
+        safety: Safety,
+        /// Capture totals, copied at each frame end for the summary.
+        counters: Counters,
+        /// Per-second cycle statistics.
+        stats: SummaryWindow,
+        control: Control,
+        link: MotorLink,
+        /// The supervisor asks the camera side to start the model afresh (after a fault).
+        reset_requested: bool,
+    }
 
     #[local]
     struct Local {
-        /// RTT up channel 1 "telemetry". Held (by `idle`) so that the channel stays usable;
-        /// the telemetry task of a later issue takes it over. Nothing writes to it yet.
         telemetry: UpChannel,
-        /// The camera (XCLK pin and SCCB bus), configured or not. Held (by `idle`) for the
-        /// capture work to come (and a retry of `init` if the fault policy wants one).
+        records_tx: Sender<'static, Record, TELEMETRY_QUEUE>,
+        records_rx: Receiver<'static, Record, TELEMETRY_QUEUE>,
+        watchdog: IndependentWatchdog,
+        /// The camera's XCLK and SCCB, kept alive (and for a future re-initialisation).
         camera: camera::Camera,
+        last_fault: Option<Fault>,
     }
 
-    #[init]
+    #[init(local = [network: Network = Network::paper()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         // RTT first (it needs no clock set-up), so that a panic or a hang in the clock
         // configuration below is visible on the probe. Channel 0 "log" (text, the print channel
@@ -64,7 +114,7 @@ mod app {
                     name: "log"
                 }
                 1: {
-                    size: 1024,
+                    size: 2048,
                     name: "telemetry"
                 }
             }
@@ -81,10 +131,12 @@ mod app {
             board::HSE_HZ,
             board::SYSCLK_HZ
         );
+        let mut core = cx.core;
+        let dp = cx.device;
 
         // `freeze` sets the PLL, the flash wait states and the regulator over-drive, and panics
         // if the request is out of range.
-        let mut rcc = cx.device.RCC.freeze(
+        let mut rcc = dp.RCC.freeze(
             Config::hse(board::HSE_HZ.Hz())
                 .sysclk(board::SYSCLK_HZ.Hz())
                 .pclk1(board::PCLK1_HZ.Hz())
@@ -92,18 +144,19 @@ mod app {
         );
         let clocks = rcc.clocks;
 
-        // `idle` sleeps with `wfi`. On STM32 the debugger loses memory access to a sleeping core
-        // unless DBGMCU_CR.DBG_SLEEP keeps the clocks running in Sleep mode, and RTT (the probe
-        // reading RAM) stops with it; probe-rs sets the bit when it attaches but clears it when it
-        // detaches, so a later attach could fail. The firmware sets it itself. A clocked DMA
+        // `wfi` in idle: on STM32 the debugger loses memory access to a sleeping core unless
+        // DBGMCU_CR.DBG_SLEEP keeps the clocks running in Sleep mode, and RTT stops with it;
+        // probe-rs clears the bit when it detaches, so the firmware sets it itself. A clocked DMA
         // controller is the other half of the usual STM32 RTT-in-sleep workaround (probe-rs
-        // issue #350): DMA1 is enabled here for that reason only, nothing uses it. Cost: a little
-        // power in Sleep mode, negligible next to the motors. We never enter Stop/Standby, so
-        // DBG_STOP/DBG_STANDBY are left alone.
-        cx.device.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
-        rcc.ahb1enr().modify(|_, w| w.dma1en().set_bit());
+        // issue #350): DMA2 runs the camera anyway. DBG_IWDG_STOP freezes the watchdog while a
+        // debugger halts the core.
+        dp.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
+        dp.DBGMCU
+            .apb1_fz()
+            .modify(|_, w| w.dbg_iwdg_stop().set_bit());
+        rcc.ahb1enr().modify(|_, w| w.dma2en().set_bit());
+        rcc.ahb2enr().modify(|_, w| w.dcmien().set_bit());
 
-        let params = alvs_tasks::Params::default();
         rprintln!(
             "clocks: SYSCLK {} Hz (asked {}), HCLK {} Hz, PCLK1 {} Hz (asked {}), PCLK2 {} Hz (asked {}), computed for an HSE of {} Hz",
             clocks.sysclk().raw(),
@@ -122,50 +175,266 @@ mod app {
             rprintln!("WARNING: clocks differ from the requested ones (src/board.rs)");
         }
 
-        // Camera: XCLK, then sensor reset, id check and register table over SCCB. A failure is
-        // reported and the firmware runs on (the fault policy comes with the capture work).
-        // `split` resets its port, so each port is split once, here; the other pins of GPIOA and
-        // GPIOE (DCMI among them) stay in `gpioa`/`gpioe` for the capture work.
-        let gpioa = cx.device.GPIOA.split(&mut rcc);
-        let gpioe = cx.device.GPIOE.split(&mut rcc);
+        // DWT cycle counter: the perception timing and the self-benchmark read it.
+        core.DCB.enable_trace();
+        core.DWT.enable_cycle_counter();
+        let network: &'static mut Network = cx.local.network;
+        bench::self_test(network);
+
+        let gpioa = dp.GPIOA.split(&mut rcc);
+        let gpiob = dp.GPIOB.split(&mut rcc);
+        let gpioc = dp.GPIOC.split(&mut rcc);
+        let gpioe = dp.GPIOE.split(&mut rcc);
         let pins = camera::Pins {
             xclk: gpioa.pa8,
             sda: gpioe.pe2,
             scl: gpioe.pe3,
         };
         let mut camera = camera::Camera::new(pins, &rcc, clocks.sysclk().raw());
-        match camera.init() {
-            Ok(info) => rprintln!("camera: {}", info),
-            Err(error) => rprintln!("ERROR camera: {}", error),
-        }
-        rprintln!(
-            "model: alvs-tasks Params::default() Table I: T_a = {}, T_d = {}, T_s = {}",
-            params.t_a,
-            params.t_d,
-            params.t_s
+        let camera_ok = match camera.init() {
+            Ok(info) => {
+                rprintln!("camera: {}", info);
+                true
+            }
+            Err(error) => {
+                rprintln!(
+                    "ERROR camera: {} (no capture; the watchdog retries by a reset)",
+                    error
+                );
+                false
+            }
+        };
+
+        // DCMI pins to AF13 (board::DCMI_AF). The pin objects are dropped: the mode stays.
+        let _ = (
+            gpioc.pc6.into_alternate::<{ board::DCMI_AF }>(),
+            gpioc.pc7.into_alternate::<{ board::DCMI_AF }>(),
+            gpioe.pe0.into_alternate::<{ board::DCMI_AF }>(),
+            gpioe.pe1.into_alternate::<{ board::DCMI_AF }>(),
+            gpioe.pe4.into_alternate::<{ board::DCMI_AF }>(),
+            gpiob.pb6.into_alternate::<{ board::DCMI_AF }>(),
+            gpioe.pe5.into_alternate::<{ board::DCMI_AF }>(),
+            gpioe.pe6.into_alternate::<{ board::DCMI_AF }>(),
+            gpioa.pa4.into_alternate::<{ board::DCMI_AF }>(),
+            gpiob.pb7.into_alternate::<{ board::DCMI_AF }>(),
+            gpioa.pa6.into_alternate::<{ board::DCMI_AF }>(),
         );
+        let mut frames = FrameIn::new(camera::dcmi::Dcmi::new(dp.DCMI, dp.DMA2));
+
+        // Motor link: UART4 TX only; the motors start disabled (stop frames first).
+        let tx_pin: board::MotorTxPin = gpioc.pc10;
+        let tx = match dp.UART4.tx(tx_pin, Bps(board::MOTOR_BAUD), &mut rcc) {
+            Ok(tx) => tx,
+            Err(_) => panic!(
+                "UART4 cannot do {} baud at PCLK1 {} Hz",
+                board::MOTOR_BAUD,
+                board::PCLK1_HZ
+            ),
+        };
+        let mut link = MotorLink::new(tx);
+        let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
+        link.send(&control.stop());
+
+        let (records_tx, records_rx) = make_channel!(Record, TELEMETRY_QUEUE);
+        Mono::start(core.SYST, clocks.sysclk().raw());
+        let mut watchdog = IndependentWatchdog::new(dp.IWDG);
+        watchdog.start(WATCHDOG_TIMEOUT_MS.millis());
+        let parked = if camera_ok {
+            frames.capture_start();
+            Some(network)
+        } else {
+            None
+        };
         rprintln!(
-            "bring-up firmware: camera set-up only (no DCMI capture yet), no network, no telemetry, no motors yet; idling"
+            "running: model Table I (T_a {}, T_d {}, T_s {}), {} B of model state, motors off until {} frames primed it",
+            alvs_tasks::Params::PAPER.t_a,
+            alvs_tasks::Params::PAPER.t_d,
+            alvs_tasks::Params::PAPER.t_s,
+            core::mem::size_of::<Network>(),
+            alvs_tasks::health::PRIME_FRAMES
         );
+        supervisor::spawn().ok();
+        summary::spawn().ok();
+        telemetry::spawn().ok();
 
         (
-            Shared {},
+            Shared {
+                frames,
+                parked,
+                safety: Safety::new(),
+                counters: Counters::ZERO,
+                stats: SummaryWindow::new(),
+                control,
+                link,
+                reset_requested: false,
+            },
             Local {
                 telemetry: channels.up.1,
+                records_tx,
+                records_rx,
+                watchdog,
                 camera,
+                last_fault: None,
             },
         )
     }
 
-    /// Sleeps until an interrupt, forever (no interrupt is enabled yet). A user-defined `idle`
-    /// replaces RTIC's default (which sets SLEEPONEXIT). `wfi` should not disturb the probe since
-    /// `init` set DBG_SLEEP (see there); not yet checked on a board. Should the probe still lose
-    /// the target or RTT, replace `wfi` with `cortex_m::asm::nop()` to keep the core awake (more
-    /// power, same behaviour).
-    #[idle(local = [telemetry, camera])]
+    /// Sleeps between interrupts. `wfi` should not disturb the probe since `init` set
+    /// DBG_SLEEP; should the probe still lose the target, replace it with `nop`.
+    #[idle(local = [camera])]
     fn idle(_cx: idle::Context) -> ! {
         loop {
             cortex_m::asm::wfi();
+        }
+    }
+
+    /// DMA half/complete: two more lines are in the ring; they stream into the retina.
+    #[task(binds = DMA2_STREAM1, priority = 4, shared = [frames])]
+    fn dma_lines(cx: dma_lines::Context) {
+        cx.shared.frames.drain();
+    }
+
+    /// DCMI: overrun, sync error, frame complete (→ perception), VSYNC (→ next frame).
+    #[task(binds = DCMI, priority = 4, shared = [frames, parked, safety, counters, reset_requested])]
+    fn dcmi(cx: dcmi::Context) {
+        let frames = cx.shared.frames;
+        let mut safety = cx.shared.safety;
+        let e = frames.dcmi.take_events();
+        if e.overrun {
+            frames.capture.overrun();
+            let now = now_ms();
+            safety.lock(|s| s.overrun(now));
+        }
+        if e.sync_error {
+            frames.capture.sync_error();
+        }
+        if e.frame {
+            let (end, network) = frames.frame_complete();
+            if let (FrameEnd::Deliver { .. }, Some(network)) = (end, network) {
+                if let Err((network, _)) = perception::spawn(network, frames.retina_cycles) {
+                    // cannot happen (perception gave the network back before this frame
+                    // began); keep it for the next frame
+                    frames.network = Some(network);
+                }
+            }
+            let totals = frames.capture.counters();
+            let mut counters = cx.shared.counters;
+            counters.lock(|c| *c = totals);
+        }
+        if e.vsync {
+            let mut parked = cx.shared.parked;
+            let start = frames.frame_start(parked.lock(|p| p.take()));
+            let mut reset = cx.shared.reset_requested;
+            if start.accepted && reset.lock(core::mem::take) {
+                if let Some(n) = frames.network.as_deref_mut() {
+                    n.reset();
+                }
+            }
+        }
+    }
+
+    /// The rest of the aLPLC2 step on the frame whose rows are in; the network is parked
+    /// again at once, motor control gets the result.
+    #[task(priority = 2, shared = [parked, safety, stats])]
+    async fn perception(
+        mut cx: perception::Context,
+        network: &'static mut Network,
+        retina_cycles: u32,
+    ) {
+        let t0 = DWT::cycle_count();
+        let result = network.end_frame();
+        let cycles = retina_cycles.wrapping_add(DWT::cycle_count().wrapping_sub(t0));
+        cx.shared.parked.lock(|p| *p = Some(network));
+        match result {
+            Ok(p) => {
+                let now = now_ms();
+                cx.shared.safety.lock(|s| s.frame(now));
+                cx.shared.stats.lock(|w| w.record_frame(cycles));
+                if motor_control::spawn(p, cycles).is_err() {
+                    rprintln!("ERROR perception: motor control still busy");
+                }
+            }
+            // the capture policy delivers only whole frames
+            Err(e) => rprintln!("ERROR perception: {}", e),
+        }
+    }
+
+    /// The escape FSM on this frame's perception; wheel powers to the bottom board; the
+    /// frame's telemetry record to the telemetry task.
+    #[task(priority = 3, shared = [safety, control, link], local = [records_tx])]
+    async fn motor_control(mut cx: motor_control::Context, p: Perception, cycles: u32) {
+        let enable = cx.shared.safety.lock(|s| s.fault().is_none() && s.primed());
+        let (command, frames) = cx.shared.control.lock(|c| c.step(&p.vm, enable));
+        cx.shared.link.lock(|l| l.send(&frames));
+        let record = Record::from_perception(&p, command.state, cycles);
+        if cx.local.records_tx.try_send(record).is_err() {
+            RTT_DROPPED.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Every 10 ms: the safety policy. Feeds the watchdog on perception progress, stops the
+    /// motors on a fault (camera stall, overrun burst), and asks for a fresh model after one.
+    #[task(priority = 3, shared = [safety, control, link, reset_requested], local = [watchdog, last_fault])]
+    async fn supervisor(mut cx: supervisor::Context) {
+        loop {
+            let now = now_ms();
+            let d = cx.shared.safety.lock(|s| s.tick(now));
+            if d.feed_watchdog {
+                cx.local.watchdog.feed();
+            }
+            if d.fault != *cx.local.last_fault {
+                match d.fault {
+                    Some(f) => {
+                        rprintln!("ERROR {}: motors stopped; the model primes again", f.name());
+                        cx.shared.reset_requested.lock(|r| *r = true);
+                    }
+                    None => rprintln!("recovered: frames flow again"),
+                }
+                *cx.local.last_fault = d.fault;
+            }
+            if !d.motors_enabled {
+                let stop = cx
+                    .shared
+                    .control
+                    .lock(|c| c.motors_enabled().then(|| c.stop()));
+                if let Some(stop) = stop {
+                    cx.shared.link.lock(|l| l.send(&stop));
+                }
+            }
+            Mono::delay(MonoDuration::millis(10)).await;
+        }
+    }
+
+    /// UART4 TXE: the next queued byte to the bottom board.
+    #[task(binds = UART4, priority = 5, shared = [link])]
+    fn uart4(mut cx: uart4::Context) {
+        cx.shared.link.lock(|l| l.on_interrupt());
+    }
+
+    /// RTT channel 1: one line per frame; dropped (and counted) when the host does not read.
+    #[task(priority = 1, local = [telemetry, records_rx])]
+    async fn telemetry(cx: telemetry::Context) {
+        while let Ok(record) = cx.local.records_rx.recv().await {
+            let line = record.to_line();
+            let mut bytes = [0u8; alvs_tasks::telemetry::LINE_CAP + 1];
+            let n = line.len().min(bytes.len() - 1);
+            bytes[..n].copy_from_slice(&line.as_bytes()[..n]);
+            bytes[n] = b'\n';
+            if cx.local.telemetry.write(&bytes[..=n]) < n + 1 {
+                RTT_DROPPED.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// RTT channel 0, once a second: frames, drops, overruns, cycles min/mean/max, misses.
+    #[task(priority = 1, shared = [stats, counters])]
+    async fn summary(mut cx: summary::Context) {
+        loop {
+            Mono::delay(MonoDuration::millis(1000)).await;
+            let totals = cx.shared.counters.lock(|c| *c);
+            let dropped = RTT_DROPPED.load(Ordering::Relaxed);
+            let s = cx.shared.stats.lock(|w| w.close(totals, dropped));
+            rprintln!("{}", s.to_line());
         }
     }
 }

@@ -7,13 +7,16 @@
 //! 3. [`Camera::init`]: software reset of the sensor, identification (PID/VER), the register
 //!    table of [`ov7670::CONFIG`], and a read-back of a few of those registers.
 //!
-//! What it does **not** do yet: DCMI capture, DMA, frame buffers (the sensor streams after
-//! `init`, but nothing samples its pixel bus). Deciding what a camera error means for the robot
-//! is the caller's business: [`Camera::init`] reports and can be called again.
+//! 4. [`dcmi`]: capture of the 99x72 window into a DMA ring of lines (no frame buffer: the
+//!    lines stream into the network's retina, see `tasks::camera`).
+//!
+//! Deciding what a camera error means for the robot is the caller's business: [`Camera::init`]
+//! reports and can be called again.
 //!
 //! Every board fact used here is a named constant of [`crate::board`] or [`ov7670`], to verify
 //! at bring-up.
 
+pub mod dcmi;
 mod delay;
 pub mod ov7670;
 pub mod sccb;

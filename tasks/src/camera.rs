@@ -255,6 +255,11 @@ impl Capture {
         self.counters
     }
 
+    /// Lines received in the frame in progress.
+    pub fn rows(&self) -> u16 {
+        self.rows
+    }
+
     /// Whether the frame in progress streams into the network.
     pub fn accepted(&self) -> bool {
         self.in_frame && self.accepted

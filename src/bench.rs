@@ -1,0 +1,114 @@
+//! The exported benchmark entry: one frame of perception and control, its stages timed with
+//! the DWT cycle counter. The same machine code runs on the host's Cortex-M4 cycle model
+//! (`tests/budget.rs` loads this ELF, calls these symbols and reads the DWT stamps it models)
+//! and on the board, where `init` runs it on built-in frames and prints the cycles over RTT
+//! ([`self_test`]), so the model can be calibrated against the real chip.
+
+use alvs_tasks::bench::{self, Report};
+use alvs_tasks::control::Control;
+use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::{Frame, Network, PIXELS};
+use cortex_m::peripheral::DWT;
+
+/// Sizes the caller must reserve: `Network`, `Control`, `Report`, a frame (bytes).
+#[no_mangle]
+#[used]
+pub static ALVS_BENCH_SIZES: [u32; 4] = [
+    core::mem::size_of::<Network>() as u32,
+    core::mem::size_of::<Control>() as u32,
+    core::mem::size_of::<Report>() as u32,
+    PIXELS as u32,
+];
+
+/// The entry points by address: keeps both linked (and exported) even where the firmware
+/// itself does not call them, so the cycle model always finds them.
+#[used]
+static ENTRIES: (
+    unsafe extern "C" fn(*mut Network, *mut Control),
+    unsafe extern "C" fn(*mut Network, *mut Control, *const Frame, *mut Report),
+) = (alvs_bench_init, alvs_bench_step);
+
+/// Writes a fresh paper network and an escape controller into the given memory.
+///
+/// # Safety
+/// `network` and `control` must be valid for writes of `ALVS_BENCH_SIZES[0]` and `[1]` bytes,
+/// aligned for their types (8 bytes suffices).
+#[no_mangle]
+pub unsafe extern "C" fn alvs_bench_init(network: *mut Network, control: *mut Control) {
+    if network.is_null() || control.is_null() {
+        return;
+    }
+    network.write(Network::paper());
+    control.write(Control::new(FsmParams::default(), Behaviour::Escape));
+}
+
+/// One frame: `bench::step` with the DWT cycle counter as its clock; the report (stamps
+/// and outputs) goes to `out`.
+///
+/// # Safety
+/// `network` and `control` must point to values set up by [`alvs_bench_init`], `frame` to
+/// `PIXELS` readable bytes and `out` to a writable `Report`, none overlapping.
+#[no_mangle]
+pub unsafe extern "C" fn alvs_bench_step(
+    network: *mut Network,
+    control: *mut Control,
+    frame: *const Frame,
+    out: *mut Report,
+) {
+    let (Some(network), Some(control), Some(frame), Some(out)) = (
+        network.as_mut(),
+        control.as_mut(),
+        frame.as_ref(),
+        out.as_mut(),
+    ) else {
+        return;
+    };
+    *out = bench::step(network, control, frame, &mut DWT::cycle_count);
+}
+
+/// Full-contrast noise, a compile-time constant in flash (xorshift32 of `seed`).
+const fn noise(seed: u32) -> Frame {
+    let mut f = [0u8; PIXELS];
+    let mut s = seed;
+    let mut i = 0;
+    while i < PIXELS {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        // full contrast: every pixel black or white
+        f[i] = if s & 0x100 != 0 { 255 } else { 0 };
+        i += 1;
+    }
+    f
+}
+
+/// Built-in frames of the self-test: two unrelated full-contrast noise frames (every pixel
+/// changes, every part of the retina salient). In flash, so reading them costs wait states
+/// a camera row in SRAM does not: the board's figure is an upper bound.
+static FRAMES: [Frame; 2] = [noise(0x1234_5678), noise(0x9abc_def0)];
+
+/// Runs the bench entry on the built-in frames with `network` (then reset: the real run
+/// starts from a clean model) and prints the stage cycles of each frame on the log channel.
+pub fn self_test(network: &mut Network) {
+    let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
+    for (i, frame) in FRAMES.iter().cycle().take(4).enumerate() {
+        let mut report = Report::default();
+        // SAFETY: all four are distinct live references of the right types.
+        unsafe { alvs_bench_step(network, &mut control, frame, &mut report) };
+        let c = report.stage_cycles();
+        let total: u32 = c.iter().sum();
+        rtt_target::rprintln!(
+            "bench: frame {} cycles retina {} attention {} motion {} visuomotor {} control {} total {} ({} us at 180 MHz), {} AFs",
+            i,
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            total,
+            total / 180,
+            report.afs
+        );
+    }
+    network.reset();
+}
