@@ -216,7 +216,8 @@ impl Decoder {
             }
             _ => {}
         }
-        d.addr_regs = mem_base | mem_index;
+        // PC-relative addresses (literal pools) never wait for a register.
+        d.addr_regs = (mem_base | mem_index) & !(1 << 15);
         d.writes = if memory {
             // Drop the base write-back (forwarded by the AGU), keep loaded registers.
             (all_written & !mem_base) | explicit_written
@@ -314,6 +315,14 @@ mod tests {
         // udiv r0, r1, r2
         let d = dec(&[0xFBB1, 0xF0F2]);
         assert_eq!((d.class, d.base), (Class::Divide, 12), "{}", d.text());
+        // ldr r0, [pc, #8]: a literal load has no address register to wait for.
+        let d = dec(&[0x4802]);
+        assert_eq!(
+            (d.class, d.addr_regs, d.writes),
+            (Class::Load, 0, 1),
+            "{}",
+            d.text()
+        );
         // adds r0, r1, r2 writes r0
         let d = dec(&[0x1888]);
         assert_eq!(
