@@ -98,3 +98,28 @@ fn a_non_arm_or_broken_elf_is_an_error() {
         Err(alvs_cycles::Error::Elf(_))
     ));
 }
+
+#[test]
+fn compiled_code_from_the_firmware_runs_deterministically() {
+    let Some(path) = firmware_elf() else { return };
+    let elf = std::fs::read(&path).expect("firmware ELF");
+    let mut m = Machine::from_elf(&elf).expect("loads");
+    // compiler_builtins' memcpy as LTO linked it: IT blocks, LDM/STM, unaligned tails.
+    let memcpy = m.symbol("__aeabi_memcpy").expect("__aeabi_memcpy");
+    let src: Vec<u8> = (0..1000u32).map(|i| (i * 7) as u8).collect();
+    m.write(0x2001_0000, &src).unwrap();
+    let mut runs = Vec::new();
+    for _ in 0..2 {
+        m.write(0x2002_0000, &[0; 1000]).unwrap();
+        m.paint_stack(0xAAAA_5555).unwrap();
+        let run = m
+            .call(memcpy, &[0x2002_0001, 0x2001_0003, 997])
+            .expect("runs");
+        assert_eq!(m.read(0x2002_0001, 997).unwrap(), src[3..]);
+        let stack = m.stack_high_water(0xAAAA_5555).unwrap();
+        assert!(stack > 0 && stack < 256, "{stack}");
+        assert!(run.nominal > run.instructions && run.pessimistic > run.nominal);
+        runs.push((run, stack));
+    }
+    assert_eq!(runs[0], runs[1]);
+}
