@@ -17,6 +17,7 @@
 //! # Ok(()) }
 //! ```
 
+pub mod budget;
 mod decode;
 pub mod elf;
 mod error;

@@ -1,0 +1,423 @@
+//! The deadline budget of the ALVS firmware: its exported `alvs_bench_step` (one frame of
+//! perception and control, `alvs_tasks::bench::step`) executed under the cycle model, frame by
+//! frame, next to the host build of the same code.
+//!
+//! [`Bench`] places a network, a controller, a frame and a report in SRAM above the firmware's
+//! own statics, calls `alvs_bench_init` once and `alvs_bench_step` per frame. The stage cycles
+//! come from the DWT reads the step makes (the model serves CYCCNT); the stack from painting
+//! CCM below the initial SP. [`HostTwin`] runs the same step natively; their outputs must agree
+//! bit for bit.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use alvs_tasks::bench::{Report, STAMPS};
+use alvs_tasks::control::Control;
+use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::{Frame, Network, PIXELS};
+
+use crate::{Error, Machine, RamReport, CLOCK_HZ};
+
+/// Cycles of one camera frame at 30 fps on the 180 MHz core.
+pub const PERIOD_CYCLES: u64 = 6_000_000;
+/// CI fails if the pessimistic worst case exceeds this share of the period.
+pub const GATE_CYCLES: u64 = PERIOD_CYCLES * 8 / 10;
+/// The speed goal: 2.0 ms at 180 MHz.
+pub const GOAL_CYCLES: u64 = 360_000;
+/// The stages, in the order of `Report::stage_cycles`.
+pub const STAGE_NAMES: [&str; STAMPS - 1] =
+    ["retina", "attention", "motion", "visuomotor", "control"];
+
+const TARGET: &str = "thumbv7em-none-eabihf";
+const PAINT: u32 = 0xDEAD_BEEF;
+
+/// Builds the firmware with its release profile (a no-op when up to date) and returns the
+/// ELF's path. `root` is the workspace root (its `.cargo/config.toml` sets target and flags).
+pub fn build_firmware(root: &Path) -> Result<PathBuf, String> {
+    let sysroot = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("rustc: {e}"))?;
+    let sysroot = String::from_utf8_lossy(&sysroot.stdout).trim().to_owned();
+    if !Path::new(&sysroot)
+        .join("lib/rustlib")
+        .join(TARGET)
+        .exists()
+    {
+        return Err(format!(
+            "the {TARGET} target is not installed: rustup target add {TARGET}"
+        ));
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(cargo)
+        .args(["build", "--release", "--quiet", "--manifest-path"])
+        .arg(root.join("Cargo.toml"))
+        .current_dir(root)
+        .status()
+        .map_err(|e| format!("cargo: {e}"))?;
+    if !status.success() {
+        return Err("the firmware does not build".into());
+    }
+    let target_dir =
+        std::env::var_os("CARGO_TARGET_DIR").map_or(root.join("target"), PathBuf::from);
+    Ok(target_dir.join(TARGET).join("release/alvs-firmware"))
+}
+
+/// Cycles of one frame, per stage and in total, in both models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameCycles {
+    /// Nominal cycles per stage.
+    pub nominal: [u64; STAMPS - 1],
+    /// Pessimistic cycles per stage.
+    pub pessimistic: [u64; STAMPS - 1],
+    /// Stack bytes the step used.
+    pub stack: u32,
+}
+
+impl FrameCycles {
+    /// Nominal total.
+    pub fn nominal_total(&self) -> u64 {
+        self.nominal.iter().sum()
+    }
+
+    /// Pessimistic total.
+    pub fn pessimistic_total(&self) -> u64 {
+        self.pessimistic.iter().sum()
+    }
+}
+
+/// Milliseconds at the robot's clock.
+pub fn ms(cycles: u64) -> f64 {
+    cycles as f64 * 1e3 / CLOCK_HZ as f64
+}
+
+/// The firmware's bench entry under the cycle model.
+pub struct Bench {
+    m: Machine,
+    init: u32,
+    step: u32,
+    network: u32,
+    control: u32,
+    frame: u32,
+    report: u32,
+}
+
+impl Bench {
+    /// Loads the ELF and sets up a fresh network and controller.
+    pub fn new(elf: &[u8]) -> Result<Bench, Error> {
+        let m = Machine::from_elf(elf)?;
+        let missing = |s: &str| Error::Elf(format!("symbol {s} not in the ELF"));
+        let init = m
+            .symbol("alvs_bench_init")
+            .ok_or_else(|| missing("alvs_bench_init"))?;
+        let step = m
+            .symbol("alvs_bench_step")
+            .ok_or_else(|| missing("alvs_bench_step"))?;
+        let sizes = m
+            .symbol_raw("ALVS_BENCH_SIZES")
+            .ok_or_else(|| missing("ALVS_BENCH_SIZES"))?;
+        let size = |i: u32| m.read_u32(sizes + 4 * i);
+        let (n, c, r, f) = (size(0)?, size(1)?, size(2)?, size(3)?);
+        if r as usize != Report::WORDS * 4 || f as usize != PIXELS {
+            return Err(Error::Elf(format!(
+                "the ELF's Report ({r} B) or frame ({f} B) differs from this build's: rebuild"
+            )));
+        }
+        // Above the firmware's statics in SRAM, 8-aligned.
+        let top = m
+            .symbol_raw("__euninit")
+            .ok_or_else(|| missing("__euninit"))?;
+        let align = |a: u32| (a + 7) & !7;
+        let network = align(top);
+        let control = align(network + n);
+        let frame = align(control + c);
+        let report = align(frame + f);
+        let mut b = Bench {
+            m,
+            init,
+            step,
+            network,
+            control,
+            frame,
+            report,
+        };
+        b.reset()?;
+        Ok(b)
+    }
+
+    /// A fresh network and controller (`alvs_bench_init`).
+    pub fn reset(&mut self) -> Result<(), Error> {
+        self.m.call(self.init, &[self.network, self.control])?;
+        Ok(())
+    }
+
+    /// The machine (for its RAM report).
+    pub fn machine(&self) -> &Machine {
+        &self.m
+    }
+
+    /// One frame: the report and the cycles.
+    pub fn step(&mut self, frame: &Frame) -> Result<(Report, FrameCycles), Error> {
+        self.m.write(self.frame, frame)?;
+        self.m.paint_stack(PAINT)?;
+        let run = self.m.call(
+            self.step,
+            &[self.network, self.control, self.frame, self.report],
+        )?;
+        let stack = self.m.stack_high_water(PAINT)?;
+        let words = self.m.read(self.report, Report::WORDS * 4)?;
+        let w: [u32; Report::WORDS] = std::array::from_fn(|i| {
+            u32::from_le_bytes([
+                words[4 * i],
+                words[4 * i + 1],
+                words[4 * i + 2],
+                words[4 * i + 3],
+            ])
+        });
+        let report = Report::from_words(&w);
+        // The step reads the clock 6 times, or 3 on the priming frame (start, retina, control).
+        let reads = &run.dwt_reads;
+        let pick = |f: fn(&crate::Stamp) -> u64| -> [u64; STAMPS] {
+            match reads.len() {
+                6 => std::array::from_fn(|i| f(&reads[i])),
+                3 => {
+                    let (a, b, c) = (f(&reads[0]), f(&reads[1]), f(&reads[2]));
+                    [a, b, b, b, b, c]
+                }
+                _ => [0; STAMPS],
+            }
+        };
+        if !matches!(reads.len(), 3 | 6) {
+            return Err(Error::Elf(format!(
+                "the step read DWT_CYCCNT {} times, expected 6 (or 3 when priming)",
+                reads.len()
+            )));
+        }
+        let diff =
+            |s: [u64; STAMPS]| -> [u64; STAMPS - 1] { std::array::from_fn(|i| s[i + 1] - s[i]) };
+        let cycles = FrameCycles {
+            nominal: diff(pick(|s| s.nominal)),
+            pessimistic: diff(pick(|s| s.pessimistic)),
+            stack,
+        };
+        Ok((report, cycles))
+    }
+}
+
+/// The same step built for the host.
+pub struct HostTwin {
+    network: Box<Network>,
+    control: Control,
+}
+
+impl Default for HostTwin {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl HostTwin {
+    /// A fresh paper network and escape controller, as `alvs_bench_init`.
+    pub fn new() -> Self {
+        HostTwin {
+            network: Box::new(Network::paper()),
+            control: Control::new(FsmParams::default(), Behaviour::Escape),
+        }
+    }
+
+    /// One frame; the stamps are 0 (no clock on the host).
+    pub fn step(&mut self, frame: &Frame) -> Report {
+        alvs_tasks::bench::step(&mut self.network, &mut self.control, frame, &mut || 0)
+    }
+}
+
+/// Static RAM of the firmware: `.data + .bss + .uninit` over all regions.
+pub fn static_ram(r: &RamReport) -> u32 {
+    r.static_ram()
+}
+
+/// A named sequence of frames to time.
+pub struct Scene {
+    /// Name in reports.
+    pub name: String,
+    /// The frames, in order (the first primes the network).
+    pub frames: Vec<Frame>,
+}
+
+/// xorshift32, for reproducible noise.
+fn xorshift(s: &mut u32) -> u32 {
+    *s ^= *s << 13;
+    *s ^= *s >> 17;
+    *s ^= *s << 5;
+    *s
+}
+
+/// The worst cases we can construct, 30 frames each:
+/// - `noise`: full-contrast random pixels every frame: every pixel changes, saliency
+///   everywhere, fields spawn until the retina is full of them;
+/// - `six-looms`: six dark squares growing at once on a bright field, one in each of the
+///   3 x 2 places the fields can tile: every field alive and stimulated;
+/// - `moving-grating`: a full-frame square grating sliding 2 px a frame: every pixel moves;
+/// - `checker-flicker`: a fine checkerboard inverting every frame.
+pub fn worst_cases() -> Vec<Scene> {
+    const N: usize = 30;
+    let w = alvs_tasks::WIDTH;
+    let mut s = 0x1234_5678u32;
+    let noise = (0..N)
+        .map(|_| {
+            std::array::from_fn(|_| {
+                if xorshift(&mut s) & 0x100 != 0 {
+                    255
+                } else {
+                    0
+                }
+            })
+        })
+        .collect();
+    let six = (0..N)
+        .map(|t| {
+            let mut f = [220u8; PIXELS];
+            // centres more than R_AF = 36 apart, so that no two fuse
+            for (cx, cy) in [(4, 4), (49, 4), (94, 4), (4, 67), (49, 67), (94, 67)] {
+                let half = 2 + t / 2;
+                for y in cy - half.min(cy)..(cy + half).min(alvs_tasks::HEIGHT) {
+                    for x in cx - half.min(cx)..(cx + half).min(w) {
+                        f[y * w + x] = 10;
+                    }
+                }
+            }
+            f
+        })
+        .collect();
+    let grating = (0..N)
+        .map(|t| std::array::from_fn(|i| if (i % w + 2 * t) % 8 < 4 { 250 } else { 5 }))
+        .collect();
+    let checker = (0..N)
+        .map(|t| {
+            std::array::from_fn(|i| {
+                let (x, y) = (i % w, i / w);
+                if (x / 2 + y / 2 + t) % 2 == 0 {
+                    255
+                } else {
+                    0
+                }
+            })
+        })
+        .collect();
+    vec![
+        Scene {
+            name: "noise".into(),
+            frames: noise,
+        },
+        Scene {
+            name: "six-looms".into(),
+            frames: six,
+        },
+        Scene {
+            name: "moving-grating".into(),
+            frames: grating,
+        },
+        Scene {
+            name: "checker-flicker".into(),
+            frames: checker,
+        },
+    ]
+}
+
+/// One scene's figures.
+#[derive(Debug, Clone)]
+pub struct SceneResult {
+    /// Scene name.
+    pub name: String,
+    /// Frames run.
+    pub frames: usize,
+    /// The frame with the largest pessimistic total.
+    pub worst: FrameCycles,
+    /// Its index.
+    pub worst_frame: usize,
+    /// Mean pessimistic total.
+    pub mean_pessimistic: u64,
+    /// Most attention fields seen at once.
+    pub max_afs: u32,
+    /// Deepest stack.
+    pub stack: u32,
+}
+
+/// Why a scene cannot be trusted.
+#[derive(Debug)]
+pub enum BudgetError {
+    /// The emulator failed.
+    Emulator(Error),
+    /// The emulated outputs differ from the host build's.
+    Mismatch {
+        /// Scene.
+        scene: String,
+        /// Frame.
+        frame: usize,
+        /// Emulated report (outputs).
+        emulated: Report,
+        /// Host report.
+        host: Report,
+    },
+}
+
+impl std::fmt::Display for BudgetError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BudgetError::Emulator(e) => write!(f, "emulator: {e}"),
+            BudgetError::Mismatch {
+                scene,
+                frame,
+                emulated,
+                host,
+            } => write!(
+                f,
+                "{scene} frame {frame}: the Cortex-M4 build computed {emulated:?}, the host build {host:?}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for BudgetError {}
+
+impl From<Error> for BudgetError {
+    fn from(e: Error) -> Self {
+        BudgetError::Emulator(e)
+    }
+}
+
+/// Runs a scene from a fresh network on both builds; fails on the first output that differs.
+pub fn run_scene(bench: &mut Bench, scene: &Scene) -> Result<SceneResult, BudgetError> {
+    bench.reset()?;
+    let mut host = HostTwin::new();
+    let mut worst = (FrameCycles::default(), 0usize);
+    let (mut sum, mut max_afs, mut stack) = (0u64, 0u32, 0u32);
+    for (i, frame) in scene.frames.iter().enumerate() {
+        let (report, cycles) = bench.step(frame)?;
+        let twin = host.step(frame);
+        if report.outputs() != twin.outputs() {
+            return Err(BudgetError::Mismatch {
+                scene: scene.name.clone(),
+                frame: i,
+                emulated: report.outputs(),
+                host: twin.outputs(),
+            });
+        }
+        if cycles.pessimistic_total() > worst.0.pessimistic_total() {
+            worst = (cycles, i);
+        }
+        sum += cycles.pessimistic_total();
+        max_afs = max_afs.max(report.afs);
+        stack = stack.max(cycles.stack);
+    }
+    Ok(SceneResult {
+        name: scene.name.clone(),
+        frames: scene.frames.len(),
+        worst: worst.0,
+        worst_frame: worst.1,
+        mean_pessimistic: sum / scene.frames.len().max(1) as u64,
+        max_afs,
+        stack,
+    })
+}
