@@ -278,9 +278,10 @@ pub fn worst_cases() -> Vec<Scene> {
     let six = (0..N)
         .map(|t| {
             let mut f = [220u8; PIXELS];
-            // centres more than R_AF = 36 apart, so that no two fuse
-            for (cx, cy) in [(4, 4), (49, 4), (94, 4), (4, 67), (49, 67), (94, 67)] {
-                let half = 2 + t / 2;
+            // centres more than R_AF = 36 apart and squares small enough that no centroid
+            // window reaches a neighbour: no two fields fuse
+            for (cx, cy) in [(6, 8), (49, 8), (92, 8), (6, 63), (49, 63), (92, 63)] {
+                let half = 2 + t / 8;
                 for y in cy - half.min(cy)..(cy + half).min(alvs_tasks::HEIGHT) {
                     for x in cx - half.min(cx)..(cx + half).min(w) {
                         f[y * w + x] = 10;
@@ -356,9 +357,9 @@ pub enum BudgetError {
         /// Frame.
         frame: usize,
         /// Emulated report (outputs).
-        emulated: Report,
+        emulated: Box<Report>,
         /// Host report.
-        host: Report,
+        host: Box<Report>,
     },
 }
 
@@ -400,8 +401,8 @@ pub fn run_scene(bench: &mut Bench, scene: &Scene) -> Result<SceneResult, Budget
             return Err(BudgetError::Mismatch {
                 scene: scene.name.clone(),
                 frame: i,
-                emulated: report.outputs(),
-                host: twin.outputs(),
+                emulated: Box::new(report.outputs()),
+                host: Box::new(twin.outputs()),
             });
         }
         if cycles.pessimistic_total() > worst.0.pessimistic_total() {
@@ -420,4 +421,85 @@ pub fn run_scene(bench: &mut Bench, scene: &Scene) -> Result<SceneResult, Budget
         max_afs,
         stack,
     })
+}
+
+/// Reads a raw 99x72 Y8 clip (frames back to back).
+pub fn read_clip(path: &Path) -> Result<Vec<Frame>, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if bytes.is_empty() || bytes.len() % PIXELS != 0 {
+        return Err(format!(
+            "{}: {} bytes is not a whole number of 99x72 frames ({PIXELS} B each)",
+            path.display(),
+            bytes.len()
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(PIXELS)
+        .map(|c| std::array::from_fn(|i| c[i]))
+        .collect())
+}
+
+/// The clips of a stimuli folder (`*.y8`, sorted), as scenes.
+pub fn clips(dir: &Path, only: Option<&[&str]>) -> Result<Vec<Scene>, String> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "y8"))
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .filter(|p| {
+            let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            only.is_none_or(|o| o.contains(&stem))
+        })
+        .map(|p| {
+            Ok(Scene {
+                name: p
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .unwrap_or("?")
+                    .to_owned(),
+                frames: read_clip(&p)?,
+            })
+        })
+        .collect()
+}
+
+/// The clips the CI gate runs besides the constructed worst cases (the full set takes
+/// minutes under the model; `alvs-budget --all-clips` runs it): the busiest real clips and the
+/// multi-threat ones.
+pub const GATE_CLIPS: [&str; 4] = [
+    "outdoor_3_black_expand_multi_6",
+    "real_bird_attack",
+    "real_car_attack",
+    "test_grating",
+];
+
+/// The printed table: one row per scene.
+pub fn table(results: &[SceneResult]) -> String {
+    let mut s = String::from(
+        "| scene | frames | max AFs | worst frame | retina | attention | motion | visuomotor | control | total pessimistic | total nominal | ms (pess.) | mean pessimistic | stack B |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in results {
+        let w = &r.worst;
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} | {} |\n",
+            r.name,
+            r.frames,
+            r.max_afs,
+            r.worst_frame,
+            w.pessimistic[0],
+            w.pessimistic[1],
+            w.pessimistic[2],
+            w.pessimistic[3],
+            w.pessimistic[4],
+            w.pessimistic_total(),
+            w.nominal_total(),
+            ms(w.pessimistic_total()),
+            r.mean_pessimistic,
+            r.stack
+        );
+    }
+    s
 }

@@ -10,7 +10,7 @@ use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::fsm::Behaviour;
 use alvs_tasks::{Params, HEIGHT, WIDTH};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 
 #[derive(Parser)]
@@ -52,6 +52,16 @@ enum Cmd {
     /// With no option: 3 robots, 10 minutes, backgrounds clutter:1, stripes:40 and checker:60,
     /// controllers alvs and lgmd2, seed 1; a table on stdout, pictures in out/arena.
     Arena(ArenaArgs),
+    /// The firmware's frame budget on the Cortex-M4 cycle model: builds the firmware, times its
+    /// perception + control step on worst cases and clips, prints the table; `--json` for
+    /// tooling. Runs `alvs-budget` of the crate alvs-cycles, which needs cmake and libclang-dev
+    /// (./test.sh installs them); `cargo alvs budget --help` lists its options.
+    #[command(disable_help_flag = true)]
+    Budget {
+        /// Options of alvs-budget (e.g. --json, --all-clips, --write-doc docs/budget.md).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -291,7 +301,35 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Cmd::Arena(a) => run_arena(a),
+        Cmd::Budget { args } => run_budget(&args),
     }
+}
+
+/// Runs `alvs-budget` (crate alvs-cycles) through cargo, so that the host tools themselves never
+/// need the emulator's C build.
+fn run_budget(args: &[String]) -> Result<()> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .context("workspace root")?;
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .args([
+            "run",
+            "--quiet",
+            "--target",
+            "host-tuple",
+            "-p",
+            "alvs-cycles",
+        ])
+        .args(["--bin", "alvs-budget", "--"])
+        .args(args)
+        .current_dir(root)
+        .status()
+        .context("running cargo")?;
+    if !status.success() {
+        bail!("alvs-budget failed ({status})");
+    }
+    Ok(())
 }
 
 fn run_arena(a: ArenaArgs) -> Result<()> {

@@ -1,0 +1,135 @@
+//! The deadline and RAM budget of the firmware, proven on the Cortex-M4 cycle model: the
+//! firmware's own release build, its exported `alvs_bench_step`, on constructed worst cases and
+//! (when `../shared/stimuli` is present) the busiest shared clips. Gates CI:
+//! - outputs bit-identical to the host build of the same code on every frame;
+//! - counts identical run to run;
+//! - pessimistic worst case ≤ 80 % of the 6.0 M-cycle frame period;
+//! - static RAM and measured stack under their ceilings.
+
+use std::path::{Path, PathBuf};
+
+use alvs_cycles::budget::{
+    build_firmware, clips, ms, run_scene, table, worst_cases, Bench, SceneResult, GATE_CLIPS,
+    GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES,
+};
+
+/// Static RAM ceiling (.data + .bss + .uninit, all regions): the measured 42,564 B plus a
+/// small margin, so a regression is caught (docs/budget.md).
+const STATIC_RAM_CEILING: u32 = 44 * 1024;
+/// Static RAM plus the measured stack of a frame: the 48 KB goal of the firmware.
+const TOTAL_RAM_CEILING: u32 = 48 * 1024;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+}
+
+fn elf() -> Vec<u8> {
+    let path = build_firmware(root()).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn stimuli() -> Option<PathBuf> {
+    let dir = root().join("../shared/stimuli");
+    if dir.is_dir() {
+        Some(dir)
+    } else if std::env::var_os("ALVS_REQUIRE_STIMULI").is_some() {
+        panic!(
+            "{} is absent and ALVS_REQUIRE_STIMULI is set",
+            dir.display()
+        );
+    } else {
+        println!(
+            "SKIPPED clips: {} is absent (constructed cases still run)",
+            dir.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn the_frame_fits_the_deadline_with_bit_identical_outputs() {
+    let elf = elf();
+    let mut bench = Bench::new(&elf).expect("the firmware exports the bench entry");
+    let mut scenes = worst_cases();
+    if let Some(dir) = stimuli() {
+        let found = clips(&dir, Some(&GATE_CLIPS)).expect("clips load");
+        assert_eq!(
+            found.len(),
+            GATE_CLIPS.len(),
+            "gate clips missing in {}",
+            dir.display()
+        );
+        scenes.extend(found);
+    }
+    let results: Vec<SceneResult> = scenes
+        .iter()
+        .map(|s| run_scene(&mut bench, s).unwrap_or_else(|e| panic!("{e}")))
+        .collect();
+    println!("{}", table(&results));
+    let worst = results
+        .iter()
+        .max_by_key(|r| r.worst.pessimistic_total())
+        .expect("scenes ran");
+    let (p, n) = (worst.worst.pessimistic_total(), worst.worst.nominal_total());
+    println!(
+        "worst case: {} frame {}: {p} pessimistic ({:.2} ms, {:.1} % of the period), {n} nominal; goal {GOAL_CYCLES}",
+        worst.name,
+        worst.worst_frame,
+        ms(p),
+        100.0 * p as f64 / PERIOD_CYCLES as f64
+    );
+    assert!(
+        p <= GATE_CYCLES,
+        "{}: {p} pessimistic cycles exceed 80 % of the period ({GATE_CYCLES})",
+        worst.name
+    );
+    // the constructed cases hold every field the geometry allows and move every pixel
+    let six = results.iter().find(|r| r.name == "six-looms").unwrap();
+    assert!(
+        six.max_afs >= 4,
+        "six-looms held only {} fields",
+        six.max_afs
+    );
+}
+
+#[test]
+fn counts_are_identical_run_to_run() {
+    let elf = elf();
+    let scene = &worst_cases()[0];
+    let a = run_scene(&mut Bench::new(&elf).unwrap(), scene).unwrap();
+    let b = run_scene(&mut Bench::new(&elf).unwrap(), scene).unwrap();
+    assert_eq!(
+        (a.worst, a.worst_frame, a.mean_pessimistic),
+        (b.worst, b.worst_frame, b.mean_pessimistic)
+    );
+}
+
+#[test]
+fn ram_stays_under_its_ceilings() {
+    let elf = elf();
+    let mut bench = Bench::new(&elf).unwrap();
+    let report = bench.machine().ram_report().clone();
+    println!("{report}");
+    let stack = worst_cases()
+        .iter()
+        .take(2)
+        .map(|s| run_scene(&mut bench, s).unwrap().stack)
+        .max()
+        .unwrap();
+    let static_ram = report.static_ram();
+    println!(
+        "static RAM {static_ram} B + frame stack {stack} B = {} B",
+        static_ram + stack
+    );
+    assert!(
+        static_ram <= STATIC_RAM_CEILING,
+        "static RAM {static_ram} B > {STATIC_RAM_CEILING} B"
+    );
+    assert!(
+        static_ram + stack <= TOTAL_RAM_CEILING,
+        "static RAM + stack {} B > {TOTAL_RAM_CEILING} B",
+        static_ram + stack
+    );
+}
