@@ -2,8 +2,8 @@
 //!
 //! Every value comes from `/work/shared/HARDWARE.md` ("MCU and clocks", "Camera: OV7670 over
 //! DCMI"), which gathers facts from public Colias firmware that were not checked on a board: each
-//! one is to be verified at bring-up. The camera clock and SCCB pins are here; the DCMI pins and
-//! the bottom-board UART join this module with the work that uses them.
+//! one is to be verified at bring-up: clocks, the camera's clock and SCCB pins, the DCMI pins,
+//! polarities and crop window, its DMA stream, and the bottom-board UART.
 
 use stm32f4xx_hal::gpio;
 
@@ -114,8 +114,9 @@ pub const DCMI_DMA_CHANNEL: u8 = 1;
 /// Verify at bring-up: bytes on PC10 at the baud below when the robot wanders.
 pub type MotorTxPin<MODE = gpio::DefaultMode> = gpio::PC10<MODE>;
 
-/// Baud rate of the bottom-board link, 8N1. Verify at bring-up (see [`MotorTxPin`]).
-pub const MOTOR_BAUD: u32 = 38_400;
+/// Baud rate of the bottom-board link, 8N1: the protocol's own constant (`tasks::motor`).
+/// Verify at bring-up (see [`MotorTxPin`]).
+pub const MOTOR_BAUD: u32 = alvs_tasks::motor::BAUD;
 
 /// Bytes the motor link can hold queued (a frame period sends ≤ 3 frames of ≤ 12 bytes).
 pub const MOTOR_QUEUE_BYTES: usize = 128;

@@ -415,12 +415,9 @@ mod app {
     #[task(priority = 1, local = [telemetry, records_rx])]
     async fn telemetry(cx: telemetry::Context) {
         while let Ok(record) = cx.local.records_rx.recv().await {
+            // the line ends in '\n'; NoBlockSkip writes all of it or nothing
             let line = record.to_line();
-            let mut bytes = [0u8; alvs_tasks::telemetry::LINE_CAP + 1];
-            let n = line.len().min(bytes.len() - 1);
-            bytes[..n].copy_from_slice(&line.as_bytes()[..n]);
-            bytes[n] = b'\n';
-            if cx.local.telemetry.write(&bytes[..=n]) < n + 1 {
+            if cx.local.telemetry.write(line.as_bytes()) < line.len() {
                 RTT_DROPPED.fetch_add(1, Ordering::Relaxed);
             }
         }
@@ -434,7 +431,7 @@ mod app {
             let totals = cx.shared.counters.lock(|c| *c);
             let dropped = RTT_DROPPED.load(Ordering::Relaxed);
             let s = cx.shared.stats.lock(|w| w.close(totals, dropped));
-            rprintln!("{}", s.to_line());
+            rtt_target::rprint!("{}", s.to_line());
         }
     }
 }
