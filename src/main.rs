@@ -22,6 +22,7 @@ mod camera;
 mod capture;
 mod fault;
 mod motor_link;
+mod setup;
 
 // A panic prints its message over RTT (up channel 0 "log"), then `udf` lands in the HardFault
 // handler of `fault`, which stops the motors and waits for the watchdog reset.
@@ -43,7 +44,7 @@ const TELEMETRY_QUEUE: usize = 4;
 mod app {
     use crate::capture::FrameIn;
     use crate::motor_link::MotorLink;
-    use crate::{bench, board, camera, RTT_DROPPED, TELEMETRY_QUEUE};
+    use crate::{bench, camera, setup, RTT_DROPPED, TELEMETRY_QUEUE};
     use alvs_tasks::camera::{Counters, FrameEnd};
     use alvs_tasks::control::Control;
     use alvs_tasks::fsm::{Behaviour, FsmParams};
@@ -59,9 +60,7 @@ mod app {
     use rtic_sync::make_channel;
     use rtt_target::{rprintln, rtt_init, set_print_channel, UpChannel};
     use stm32f4xx_hal::prelude::*;
-    use stm32f4xx_hal::serial::SerialExt;
     use stm32f4xx_hal::watchdog::IndependentWatchdog;
-    use stm32f4xx_hal::{rcc::Config, time::Bps};
 
     systick_monotonic!(Mono, 1_000);
     type MonoDuration = <Mono as Monotonic>::Duration;
@@ -124,56 +123,9 @@ mod app {
             "alvs-firmware {} on the Colias sense board (STM32F427VI)",
             env!("CARGO_PKG_VERSION")
         );
-        // Printed before `freeze`: if this is the last line, HSE did not start (`freeze` waits
-        // for HSERDY forever) or a clock request was rejected (the panic message follows).
-        rprintln!(
-            "clocks: starting HSE {} Hz -> SYSCLK {} Hz",
-            board::HSE_HZ,
-            board::SYSCLK_HZ
-        );
         let mut core = cx.core;
         let dp = cx.device;
-
-        // `freeze` sets the PLL, the flash wait states and the regulator over-drive, and panics
-        // if the request is out of range.
-        let mut rcc = dp.RCC.freeze(
-            Config::hse(board::HSE_HZ.Hz())
-                .sysclk(board::SYSCLK_HZ.Hz())
-                .pclk1(board::PCLK1_HZ.Hz())
-                .pclk2(board::PCLK2_HZ.Hz()),
-        );
-        let clocks = rcc.clocks;
-
-        // `wfi` in idle: on STM32 the debugger loses memory access to a sleeping core unless
-        // DBGMCU_CR.DBG_SLEEP keeps the clocks running in Sleep mode, and RTT stops with it;
-        // probe-rs clears the bit when it detaches, so the firmware sets it itself. A clocked DMA
-        // controller is the other half of the usual STM32 RTT-in-sleep workaround (probe-rs
-        // issue #350): DMA2 runs the camera anyway. DBG_IWDG_STOP freezes the watchdog while a
-        // debugger halts the core.
-        dp.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
-        dp.DBGMCU
-            .apb1_fz()
-            .modify(|_, w| w.dbg_iwdg_stop().set_bit());
-        rcc.ahb1enr().modify(|_, w| w.dma2en().set_bit());
-        rcc.ahb2enr().modify(|_, w| w.dcmien().set_bit());
-
-        rprintln!(
-            "clocks: SYSCLK {} Hz (asked {}), HCLK {} Hz, PCLK1 {} Hz (asked {}), PCLK2 {} Hz (asked {}), computed for an HSE of {} Hz",
-            clocks.sysclk().raw(),
-            board::SYSCLK_HZ,
-            clocks.hclk().raw(),
-            clocks.pclk1().raw(),
-            board::PCLK1_HZ,
-            clocks.pclk2().raw(),
-            board::PCLK2_HZ,
-            board::HSE_HZ
-        );
-        if clocks.sysclk().raw() != board::SYSCLK_HZ
-            || clocks.pclk1().raw() != board::PCLK1_HZ
-            || clocks.pclk2().raw() != board::PCLK2_HZ
-        {
-            rprintln!("WARNING: clocks differ from the requested ones (src/board.rs)");
-        }
+        let mut rcc = setup::clocks(dp.RCC, &dp.DBGMCU);
 
         // DWT cycle counter: the perception timing and the self-benchmark read it.
         core.DCB.enable_trace();
@@ -181,70 +133,29 @@ mod app {
         let network: &'static mut Network = cx.local.network;
         bench::self_test(network);
 
-        let gpioa = dp.GPIOA.split(&mut rcc);
-        let gpiob = dp.GPIOB.split(&mut rcc);
-        let gpioc = dp.GPIOC.split(&mut rcc);
-        let gpioe = dp.GPIOE.split(&mut rcc);
-        let pins = camera::Pins {
-            xclk: gpioa.pa8,
-            sda: gpioe.pe2,
-            scl: gpioe.pe3,
+        let ports = setup::Ports {
+            a: dp.GPIOA.split(&mut rcc),
+            b: dp.GPIOB.split(&mut rcc),
+            c: dp.GPIOC.split(&mut rcc),
+            e: dp.GPIOE.split(&mut rcc),
         };
-        let mut camera = camera::Camera::new(pins, &rcc, clocks.sysclk().raw());
-        let camera_ok = match camera.init() {
-            Ok(info) => {
-                rprintln!("camera: {}", info);
-                true
-            }
-            Err(error) => {
-                rprintln!(
-                    "ERROR camera: {} (no capture; the watchdog retries by a reset)",
-                    error
-                );
-                false
-            }
-        };
-
-        // DCMI pins to AF13 (board::DCMI_AF). The pin objects are dropped: the mode stays.
-        let _ = (
-            gpioc.pc6.into_alternate::<{ board::DCMI_AF }>(),
-            gpioc.pc7.into_alternate::<{ board::DCMI_AF }>(),
-            gpioe.pe0.into_alternate::<{ board::DCMI_AF }>(),
-            gpioe.pe1.into_alternate::<{ board::DCMI_AF }>(),
-            gpioe.pe4.into_alternate::<{ board::DCMI_AF }>(),
-            gpiob.pb6.into_alternate::<{ board::DCMI_AF }>(),
-            gpioe.pe5.into_alternate::<{ board::DCMI_AF }>(),
-            gpioe.pe6.into_alternate::<{ board::DCMI_AF }>(),
-            gpioa.pa4.into_alternate::<{ board::DCMI_AF }>(),
-            gpiob.pb7.into_alternate::<{ board::DCMI_AF }>(),
-            gpioa.pa6.into_alternate::<{ board::DCMI_AF }>(),
-        );
-        let mut frames = FrameIn::new(camera::dcmi::Dcmi::new(dp.DCMI, dp.DMA2));
-
-        // Motor link: UART4 TX only; the motors start disabled (stop frames first).
-        let tx_pin: board::MotorTxPin = gpioc.pc10;
-        let tx = match dp.UART4.tx(tx_pin, Bps(board::MOTOR_BAUD), &mut rcc) {
-            Ok(tx) => tx,
-            Err(_) => panic!(
-                "UART4 cannot do {} baud at PCLK1 {} Hz",
-                board::MOTOR_BAUD,
-                board::PCLK1_HZ
-            ),
-        };
-        let mut link = MotorLink::new(tx);
+        let (camera, dcmi, camera_ok, motor_tx) = setup::camera(ports, &mut rcc, dp.DCMI, dp.DMA2);
+        // Motors disabled at boot: the stop frames go out first.
+        let mut link = setup::motor_link(dp.UART4, motor_tx, &mut rcc);
         let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
         link.send(&control.stop());
 
         let (records_tx, records_rx) = make_channel!(Record, TELEMETRY_QUEUE);
-        Mono::start(core.SYST, clocks.sysclk().raw());
+        Mono::start(core.SYST, rcc.clocks.sysclk().raw());
         let mut watchdog = IndependentWatchdog::new(dp.IWDG);
         watchdog.start(WATCHDOG_TIMEOUT_MS.millis());
-        let parked = if camera_ok {
+        // Without a camera nothing is captured: the network stays unused, the watchdog starves
+        // and resets the MCU, which tries the camera again.
+        let mut frames = FrameIn::new(dcmi);
+        let parked = camera_ok.then(|| {
             frames.capture_start();
-            Some(network)
-        } else {
-            None
-        };
+            network
+        });
         rprintln!(
             "running: model Table I (T_a {}, T_d {}, T_s {}), {} B of model state, motors off until {} frames primed it",
             alvs_tasks::Params::PAPER.t_a,
