@@ -255,8 +255,7 @@ impl Packed {
     /// Neighbour sums of the first row `y` of the box, columns `c0..c1`, from scratch.
     fn start(
         &mut self,
-        a: &[u8; PIXELS],
-        b: &[u8; PIXELS],
+        (a, b): (&[u8; PIXELS], &[u8; PIXELS]),
         y: usize,
         n: usize,
         (c0, c1): (usize, usize),
@@ -282,8 +281,7 @@ impl Packed {
     /// the neuron that left the reach and takes the one that entered (none beyond the retina).
     fn advance(
         &mut self,
-        a: &[u8; PIXELS],
-        b: &[u8; PIXELS],
+        (a, b): (&[u8; PIXELS], &[u8; PIXELS]),
         y: usize,
         n: usize,
         (c0, c1): (usize, usize),
@@ -404,15 +402,15 @@ pub fn integrate_rows(
         let (p0, p1) = (c0.saturating_sub(n), (c1 + n).min(WIDTH));
         let mut now = Packed::new();
         let mut del = Packed::new();
-        now.start(m.on, m.off, r0, n, (c0, c1));
-        del.start(m.on_d, m.off_d, r0, n, (c0, c1));
+        now.start((m.on, m.off), r0, n, (c0, c1));
+        del.start((m.on_d, m.off_d), r0, n, (c0, c1));
         let mut own_d = [0u32; WIDTH];
         let mut own_n = [0u32; WIDTH];
         let mut run = [0u32; WIDTH + 1];
         let (a, b) = (nw.a, nw.b);
         for y in r0..r1 {
-            now.advance(m.on, m.off, y, n, (c0, c1), (p0, p1), y == r0);
-            del.advance(m.on_d, m.off_d, y, n, (c0, c1), (p0, p1), y == r0);
+            now.advance((m.on, m.off), y, n, (c0, c1), (p0, p1), y == r0);
+            del.advance((m.on_d, m.off_d), y, n, (c0, c1), (p0, p1), y == r0);
             // the row's span and the directions its fields need
             let (mut ua, mut ub) = (WIDTH, 0);
             let (mut horiz, mut up, mut down) = (false, false, false);
@@ -694,7 +692,7 @@ mod tests {
                 match kind {
                     0 => {}
                     1 => {
-                        if (i * 7 + k * 13 + seed as usize) % 5 != 0 {
+                        if !(i * 7 + k * 13 + seed as usize).is_multiple_of(5) {
                             *v = 0;
                         }
                     }
