@@ -140,7 +140,110 @@ impl Fields {
 
     /// Eq. (3): adds a field at the most salient pixel outside all fields if it exceeds `T_a`.
     /// Returns the new field's id.
+    ///
+    /// Same result as the pixel-by-pixel [`Fields::spawn_reference`]: the fields' squares cut
+    /// each row into covered column intervals, and only the gaps between them are scanned, in
+    /// raster order with a strict `>` (so ties still go to the first pixel), with no per-pixel
+    /// containment test.
     pub fn spawn(
+        &mut self,
+        on: &[u8; PIXELS],
+        off: &[u8; PIXELS],
+        w: &Weights,
+        p: &Params,
+    ) -> Option<u32> {
+        if self.list.is_full() {
+            return None;
+        }
+        let r = usize::from(p.r_af);
+        let mut best = (0u32, 0usize, 0usize);
+        for y in 0..HEIGHT {
+            // covered columns of this row as half-open intervals, sorted by start
+            let mut cov = [(0usize, 0usize); MAX_AFS];
+            let mut k = 0;
+            for f in self.list.iter() {
+                if usize::from(f.y).abs_diff(y) <= r {
+                    let x = usize::from(f.x);
+                    let iv = (x.saturating_sub(r), (x + r + 1).min(WIDTH));
+                    // insertion by start (at most MAX_AFS entries)
+                    let mut j = k;
+                    while j > 0 && cov[j - 1].0 > iv.0 {
+                        cov[j] = cov[j - 1];
+                        j -= 1;
+                    }
+                    cov[j] = iv;
+                    k += 1;
+                }
+            }
+            let row = y * WIDTH;
+            let (on, off) = (&on[row..row + WIDTH], &off[row..row + WIDTH]);
+            let mut x = 0;
+            for &(c0, c1) in cov[..k].iter().chain(core::iter::once(&(WIDTH, WIDTH))) {
+                if c0 > x {
+                    for (i, (&a, &b)) in on[x..c0].iter().zip(&off[x..c0]).enumerate() {
+                        let l = w.saliency(a, b);
+                        if l > best.0 {
+                            best = (l, x + i, y);
+                        }
+                    }
+                }
+                x = x.max(c1);
+            }
+        }
+        let (l, x, y) = best;
+        if l <= p.t_a {
+            return None;
+        }
+        let id = self.next_id;
+        self.next_id = self.next_id.wrapping_add(1);
+        self.list.push(Field::new(id, x, y)).ok()?;
+        Some(id)
+    }
+
+    /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
+    ///
+    /// Same result as [`Fields::recentre_reference`]. A row's moments are summed in `u32`
+    /// (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with `gain ≤ 16`, `w ≤ 4`, so a row of at most
+    /// 99 pixels sums to `Σ L̂ < 2.1·10⁶` and `Σ L̂·x < 2.0·10⁸`), then added to `u64` totals;
+    /// pixels under the floor weigh 0 instead of being branched around.
+    pub fn recentre(&mut self, on: &[u8; PIXELS], off: &[u8; PIXELS], w: &Weights, p: &Params) {
+        for f in self.list.iter_mut() {
+            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            let mut peak = 0u32;
+            for y in y0..=y1 {
+                let i = y * WIDTH;
+                for (&a, &b) in on[i + x0..=i + x1].iter().zip(&off[i + x0..=i + x1]) {
+                    peak = peak.max(w.saliency(a, b));
+                }
+            }
+            // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
+            let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
+            let floor = u32::try_from(floor).unwrap_or(u32::MAX);
+            let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
+            for y in y0..=y1 {
+                let i = y * WIDTH;
+                let (mut rm, mut rmx) = (0u32, 0u32);
+                let row = on[i + x0..=i + x1].iter().zip(&off[i + x0..=i + x1]);
+                for (x, (&a, &b)) in (x0 as u32..).zip(row) {
+                    let l = w.saliency(a, b);
+                    let l = if l >= floor { l } else { 0 };
+                    rm = rm.wrapping_add(l);
+                    rmx = rmx.wrapping_add(l.wrapping_mul(x));
+                }
+                m += u64::from(rm);
+                mx += u64::from(rmx);
+                my += u64::from(rm) * y as u64;
+            }
+            // round to nearest; the quotient lies inside the square, so it fits a byte
+            if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
+                f.x = x as u8;
+                f.y = y as u8;
+            }
+        }
+    }
+
+    /// Eq. (3), pixel by pixel: the plain reference of [`Fields::spawn`].
+    pub fn spawn_reference(
         &mut self,
         on: &[u8; PIXELS],
         off: &[u8; PIXELS],
@@ -170,8 +273,14 @@ impl Fields {
         Some(id)
     }
 
-    /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
-    pub fn recentre(&mut self, on: &[u8; PIXELS], off: &[u8; PIXELS], w: &Weights, p: &Params) {
+    /// Eq. (4), pixel by pixel: the plain reference of [`Fields::recentre`].
+    pub fn recentre_reference(
+        &mut self,
+        on: &[u8; PIXELS],
+        off: &[u8; PIXELS],
+        w: &Weights,
+        p: &Params,
+    ) {
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             // Weak, wide-spread change (ego-motion over texture) would drag the centroid off the
@@ -410,5 +519,55 @@ mod tests {
         }
         assert_eq!(g.mean_response(4), 9000);
         assert_eq!(g.response(), 9000);
+    }
+
+    fn centroids(f: &Fields) -> heapless::Vec<(u32, u8, u8), MAX_AFS> {
+        f.iter().map(|g| (g.id, g.x, g.y)).collect()
+    }
+
+    mod fast_equals_reference {
+        use super::*;
+        use proptest::prelude::*;
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(256))]
+            #[test]
+            fn spawn_and_recentre(
+                seed in any::<u32>(),
+                sparse in 0u8..4,
+                fields in prop::collection::vec((0u8..99, 0u8..72), 0..=MAX_AFS),
+                r_af in 1u8..=99,
+                r_c in 1u8..=99,
+                c_frac in 0u8..=100,
+                gain in 1u8..=16,
+                w in prop::sample::select(&[0.0f32, 0.25, 0.3, 1.0, 4.0][..]),
+                t_a in 0u32..3000,
+            ) {
+                let maps = crate::hrc::random_maps(seed);
+                let (mut on, mut off) = (maps[0], maps[1]);
+                for (i, (a, b)) in on.iter_mut().zip(off.iter_mut()).enumerate() {
+                    // sparse maps: ties and empty windows; sparse = 3: all equal
+                    match sparse {
+                        1 if i % 7 != 0 => (*a, *b) = (0, 0),
+                        2 => (*a, *b) = (*a / 64, *b / 64),
+                        3 => (*a, *b) = (9, 9),
+                        _ => {}
+                    }
+                }
+                let p = Params { r_af, r_c, c_frac, gain, w, t_a, ..Params::PAPER };
+                prop_assert_eq!(p.validate(), Ok(()));
+                let w = Weights::new(&p);
+                let mut f = Fields::default();
+                for &(x, y) in &fields {
+                    f.insert(x, y);
+                }
+                let mut g = f.clone();
+                prop_assert_eq!(f.spawn(&on, &off, &w, &p), g.spawn_reference(&on, &off, &w, &p));
+                prop_assert_eq!(centroids(&f), centroids(&g));
+                f.recentre(&on, &off, &w, &p);
+                g.recentre_reference(&on, &off, &w, &p);
+                prop_assert_eq!(centroids(&f), centroids(&g));
+            }
+        }
     }
 }
