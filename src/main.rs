@@ -113,7 +113,8 @@ mod app {
                     name: "log"
                 }
                 1: {
-                    size: 2048,
+                    // ~3 KB/s of lines; a probe polls many times a second
+                    size: 1024,
                     name: "telemetry"
                 }
             }
