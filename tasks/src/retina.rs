@@ -60,9 +60,10 @@ pub struct Retina {
     off: [u8; PIXELS],
     on_d: [u8; PIXELS],
     off_d: [u8; PIXELS],
-    /// Horizontal 3-sums of the last rows, row `y` in slot `y % 3`.
-    h_on: [[u16; WIDTH]; 3],
-    h_off: [[u16; WIDTH]; 3],
+    /// Horizontal 3-sums of the rectified change of the last rows, row `y` in slot `y % 3`,
+    /// packed `on | off << 16`: a lane holds at most 3 · 255, three rows 2295, so adding
+    /// packed words never carries from one lane into the other.
+    h: [[u32; WIDTH]; 3],
     /// Rows of the current frame received.
     rows: u8,
     /// Whether `prev` holds a frame (the priming frame has been seen).
@@ -80,8 +81,7 @@ impl Retina {
             off: [0; PIXELS],
             on_d: [0; PIXELS],
             off_d: [0; PIXELS],
-            h_on: [[0; WIDTH]; 3],
-            h_off: [[0; WIDTH]; 3],
+            h: [[0; WIDTH]; 3],
             rows: 0,
             primed: false,
             delay_q8,
@@ -128,8 +128,7 @@ impl Retina {
             return Err(RowError::TooManyRows);
         };
         if self.primed {
-            let slot = y % 3;
-            row_sums(row, prev, &mut self.h_on[slot], &mut self.h_off[slot]);
+            row_sums_packed(row, prev, &mut self.h[y % 3]);
         }
         prev.copy_from_slice(row);
         if self.primed && y >= 1 {
@@ -156,41 +155,35 @@ impl Retina {
     }
 
     /// Row `y`'s 3x3 means from the ring (rows outside the retina sum to 0); the old means go
-    /// through the delay line first.
+    /// through the delay line first. One pass for both channels.
     fn finish_row(&mut self, y: usize) {
-        const ZERO: [u16; WIDTH] = [0; WIDTH];
-        let above = if y == 0 {
+        const ZERO: [u32; WIDTH] = [0; WIDTH];
+        let above = if y == 0 { &ZERO } else { &self.h[(y + 2) % 3] };
+        let below = if y + 1 >= HEIGHT {
             &ZERO
         } else {
-            &self.h_on[(y + 2) % 3]
+            &self.h[(y + 1) % 3]
         };
-        let below = if y + 1 == HEIGHT {
-            &ZERO
-        } else {
-            &self.h_on[(y + 1) % 3]
+        let mid = &self.h[y % 3];
+        let r = y * WIDTH..(y + 1) * WIDTH;
+        let (Some(on), Some(off), Some(on_d), Some(off_d)) = (
+            self.on.get_mut(r.clone()),
+            self.off.get_mut(r.clone()),
+            self.on_d.get_mut(r.clone()),
+            self.off_d.get_mut(r),
+        ) else {
+            return;
         };
-        finish(
-            &mut self.on[y * WIDTH..(y + 1) * WIDTH],
-            &mut self.on_d[y * WIDTH..(y + 1) * WIDTH],
-            [above, &self.h_on[y % 3], below],
-            self.delay_q8,
-        );
-        let above = if y == 0 {
-            &ZERO
-        } else {
-            &self.h_off[(y + 2) % 3]
-        };
-        let below = if y + 1 == HEIGHT {
-            &ZERO
-        } else {
-            &self.h_off[(y + 1) % 3]
-        };
-        finish(
-            &mut self.off[y * WIDTH..(y + 1) * WIDTH],
-            &mut self.off_d[y * WIDTH..(y + 1) * WIDTH],
-            [above, &self.h_off[y % 3], below],
-            self.delay_q8,
-        );
+        let g = self.delay_q8;
+        let rows = above.iter().zip(mid).zip(below);
+        let maps = on.iter_mut().zip(off.iter_mut()).zip(on_d.iter_mut().zip(off_d.iter_mut()));
+        for (((&a, &m), &b), ((on, off), (on_d, off_d))) in rows.zip(maps) {
+            let s = a + m + b;
+            *on_d = delay_step(*on_d, *on, g);
+            *off_d = delay_step(*off_d, *off, g);
+            *on = div9(s as u16);
+            *off = div9((s >> 16) as u16);
+        }
     }
 
     /// The newest ON/OFF means (`t`) and their delayed copies, as the correlators read them.
@@ -206,21 +199,6 @@ impl Retina {
     /// The previous frame `P(t−1)` (after a frame ends: that frame).
     pub fn prev(&self) -> &Frame {
         &self.prev
-    }
-}
-
-/// One output row: delay line fed with the old means, then the new means.
-#[inline(always)]
-fn finish(out: &mut [u8], delayed: &mut [u8], rows: [&[u16; WIDTH]; 3], gain_q8: i32) {
-    let [a, m, b] = rows;
-    for (x, (o, d)) in out
-        .iter_mut()
-        .zip(delayed.iter_mut())
-        .enumerate()
-        .take(WIDTH)
-    {
-        *d = delay_step(*d, *o, gain_q8);
-        *o = div9(a[x] + m[x] + b[x]);
     }
 }
 
@@ -295,6 +273,34 @@ pub fn on_off_mean(cur: &Frame, prev: &Frame, on: &mut [u8; PIXELS], off: &mut [
 
 fn row(f: &Frame, y: usize) -> &[u8] {
     &f[y * WIDTH..(y + 1) * WIDTH]
+}
+
+/// Eq. (1) at one pixel, unweighted and packed: `max(R, 0) | max(−R, 0) << 16`.
+#[inline(always)]
+fn rectified(c: u8, p: u8) -> u32 {
+    let r = i32::from(c) - i32::from(p);
+    if r >= 0 {
+        r as u32
+    } else {
+        ((-r) as u32) << 16
+    }
+}
+
+/// [`row_sums`] for both channels at once, packed (see [`Retina`]): a sliding window over the
+/// row instead of a padded copy.
+#[inline(always)]
+fn row_sums_packed(c: &[u8; WIDTH], p: &[u8], out: &mut [u32; WIDTH]) {
+    let (Some(&c0), Some(&p0)) = (c.first(), p.first()) else {
+        return;
+    };
+    let (mut left, mut mid) = (0u32, rectified(c0, p0));
+    let (ahead_c, ahead_p) = (&c[1..], p.get(1..).unwrap_or(&[]));
+    for (o, (&cn, &pn)) in out.iter_mut().zip(ahead_c.iter().zip(ahead_p)) {
+        let right = rectified(cn, pn);
+        *o = left + mid + right;
+        (left, mid) = (mid, right);
+    }
+    out[WIDTH - 1] = left + mid;
 }
 
 /// Horizontal 3-sums of the rectified change from row `p` to row `c`.
