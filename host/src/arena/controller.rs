@@ -233,3 +233,73 @@ impl Controller for Stationary {
         }
     }
 }
+
+/// An obstacle robot of the paper's open-loop trials (Fig. 4a): drives straight at a constant
+/// speed for a given number of camera frames, then stops (so that it ends where it was aimed,
+/// not chasing an evader across the arena).
+pub struct Approach {
+    /// Forward speed, mm/s.
+    pub speed_mm_s: f32,
+    /// Frames left to drive.
+    pub frames_left: u32,
+}
+
+impl Controller for Approach {
+    fn name(&self) -> &'static str {
+        "scripted"
+    }
+
+    fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
+        let v = if self.frames_left > 0 {
+            self.frames_left -= 1;
+            self.speed_mm_s
+        } else {
+            0.0
+        };
+        Command {
+            left_mm_s: v,
+            right_mm_s: v,
+            state: "scripted",
+            alert: false,
+        }
+    }
+}
+
+/// A robot that stands still, its perception running, until its controller first alerts; from
+/// then on the controller drives it. This is the tested robot of the paper's evasion trials:
+/// "placed at the same initial position" while an obstacle approaches. Once released it stays
+/// released.
+pub struct HoldUntilAlert {
+    inner: Box<dyn Controller>,
+    released: bool,
+}
+
+impl HoldUntilAlert {
+    /// Holds `inner` still until its first alert.
+    pub fn new(inner: Box<dyn Controller>) -> Self {
+        HoldUntilAlert {
+            inner,
+            released: false,
+        }
+    }
+}
+
+impl Controller for HoldUntilAlert {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let c = self.inner.step(frame, heading_deg);
+        self.released |= c.alert;
+        if self.released {
+            c
+        } else {
+            Command {
+                left_mm_s: 0.0,
+                right_mm_s: 0.0,
+                ..c
+            }
+        }
+    }
+}

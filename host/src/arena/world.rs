@@ -233,6 +233,9 @@ impl Default for WallTexture {
 }
 
 impl WallTexture {
+    /// The built-in textures' names in a specification.
+    pub const NAMES: [&'static str; 4] = ["plain", "stripes", "checker", "clutter"];
+
     /// Parses a background specification as a command line gives it: `plain[:GREY]`,
     /// `stripes[:PERIOD_MM]`, `checker[:SIZE_MM]`, `clutter[:SEED]`, or else the path of a PNG
     /// or JPEG picture. Defaults: grey 128, period 40 mm, squares 40 mm, seed 1.
