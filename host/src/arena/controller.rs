@@ -27,6 +27,12 @@ pub trait Controller: Send {
     fn name(&self) -> &'static str;
     /// One camera frame.
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command;
+    /// Whether the controller looks at its frame. A blind one (a scripted obstacle) is handed
+    /// a stale frame and the camera is not rendered for it: rendering is most of the cost of a
+    /// robot that runs no model.
+    fn sees(&self) -> bool {
+        true
+    }
 }
 
 /// Which controller a robot runs.
@@ -205,6 +211,10 @@ impl Controller for Scripted {
         "scripted"
     }
 
+    fn sees(&self) -> bool {
+        false
+    }
+
     fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
         Command {
             left_mm_s: self.left_mm_s,
@@ -222,6 +232,10 @@ pub struct Stationary(pub Box<dyn Controller>);
 impl Controller for Stationary {
     fn name(&self) -> &'static str {
         self.0.name()
+    }
+
+    fn sees(&self) -> bool {
+        self.0.sees()
     }
 
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
@@ -247,6 +261,10 @@ pub struct Approach {
 impl Controller for Approach {
     fn name(&self) -> &'static str {
         "scripted"
+    }
+
+    fn sees(&self) -> bool {
+        false
     }
 
     fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
@@ -287,6 +305,10 @@ impl HoldUntilAlert {
 impl Controller for HoldUntilAlert {
     fn name(&self) -> &'static str {
         self.inner.name()
+    }
+
+    fn sees(&self) -> bool {
+        self.inner.sees()
     }
 
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {

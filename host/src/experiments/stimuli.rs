@@ -30,10 +30,10 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 
 use super::parallel;
-use crate::arena::controller::{Approach, Scripted};
+use crate::arena::controller::{Approach, Stationary};
 use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
 use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{GyroParams, MotorParams, Pose, SensorNoise, Sim, World};
+use crate::arena::{GyroParams, Kind, MotorParams, Pose, SensorNoise, Sim, World};
 use crate::canvas::Plot;
 use crate::replay::{self, Pipeline};
 
@@ -239,10 +239,9 @@ fn observer() -> Pose {
 fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Result<SceneResult> {
     let mut sim = Sim::new(world, config.seed);
     let me = observer();
-    let stand = Scripted {
-        left_mm_s: 0.0,
-        right_mm_s: 0.0,
-    };
+    // The observer must see (a blind scripted robot's frame is not rendered); its own copy of
+    // the model runs beside the one recorded here, and its wheels stay still.
+    let stand = Stationary(Kind::Alvs.make(config.params, 0));
     sim.add(
         me,
         Box::new(stand),

@@ -201,6 +201,7 @@ pub fn run(
                 .collect()
         };
         let (s0, n0) = spread(&points(&sim));
+        let (s0, n0) = (round1(s0), round1(n0));
         let (mut spreads, mut nearest) = (vec![s0], vec![n0]);
         let mut trails: Vec<Vec<[f64; 2]>> =
             starts.iter().map(|p| vec![[p.x_mm, p.y_mm]]).collect();
