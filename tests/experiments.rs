@@ -193,3 +193,54 @@ fn cli_helps_and_fails_cleanly() {
         assert!(err.starts_with("alvs: error:"), "{args:?}: {err}");
     }
 }
+
+/// Experiment 4 on two simulated minutes (the issue's "a 2-minute arena's counts are
+/// consistent"): every count is an episode count of the documented kind, the per-kind counts
+/// add up, each collision is a recorded event inside the trial, and the robots meet something.
+#[test]
+fn a_two_minute_arena_has_consistent_counts() {
+    use alvs_host::experiments::arena::{self, ArenaConfig};
+    let config = ArenaConfig {
+        minutes: 2.0,
+        backgrounds: vec!["clutter:1".into()],
+        controllers: alvs_only(),
+        seed: 5,
+        ..ArenaConfig::default()
+    };
+    let r = arena::run(&config, 1, &|_| {}).expect("a valid configuration");
+    let t = &r.trials[0];
+    let table = r.table();
+    assert_eq!(t.frames, 3600);
+    assert!(t.encounters >= 5, "{table}");
+    for k in [&t.robot_robot, &t.robot_wall] {
+        assert!(k.collided_encounters <= k.encounters, "{table}");
+        assert!(k.collisions >= k.collided_encounters, "{table}");
+    }
+    assert_eq!(
+        t.encounters,
+        t.robot_robot.encounters + t.robot_wall.encounters
+    );
+    assert_eq!(
+        t.collided_encounters,
+        t.robot_robot.collided_encounters + t.robot_wall.collided_encounters
+    );
+    let successes = t.encounters - t.collided_encounters;
+    assert_eq!(
+        t.success_rate,
+        Some(successes as f64 / t.encounters as f64),
+        "{table}"
+    );
+    assert_eq!(t.collision_events.len() as u64, t.collisions);
+    let wall_events = t
+        .collision_events
+        .iter()
+        .filter(|e| e.other_robot.is_none())
+        .count() as u64;
+    assert_eq!(wall_events, t.robot_wall.collisions);
+    assert!(t
+        .collision_events
+        .iter()
+        .all(|e| (0.0..=120.0).contains(&e.time_s) && e.other_robot.is_none_or(|o| o > e.robot)));
+    let frames: u64 = t.state_frames.values().sum();
+    assert_eq!(frames, 3 * 3600);
+}
