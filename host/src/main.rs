@@ -76,8 +76,8 @@ struct CommonArgs {
     /// Seed of everything random (noise, geometry, LGMD2's turns).
     #[arg(long, default_value_t = 1, value_name = "S")]
     seed: u64,
-    /// Wall texture: plain:GREY, stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, or a
-    /// PNG/JPEG picture's path.
+    /// Wall texture: plain:GREY, stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED,
+    /// outdoor:SEED, or a PNG/JPEG picture's path.
     #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
     background: String,
     /// Independent trials run in parallel on this many threads (default: the available
@@ -216,8 +216,8 @@ struct ArenaArgs {
     #[arg(long, default_value_t = 3, value_name = "N")]
     robots: usize,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
-    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED (the number may be left out: grey 128,
-    /// 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
+    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
+    /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
     /// Default: clutter:1, stripes:40, checker:60.
     #[arg(long = "background", value_name = "SPEC")]
     backgrounds: Vec<String>,
