@@ -23,8 +23,10 @@ use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 /// Start distance of the obstacle, mm (centre to centre): about 12 robot diameters, so the
 /// obstacle first appears about 7 pixels wide and looms for several seconds.
 pub const DEFAULT_DISTANCE_MM: f64 = 500.0;
-/// Speed of the obstacle, mm/s: a little faster than the paper's 10 cm/s cruise.
-pub const DEFAULT_SPEED_MM_S: f64 = 150.0;
+/// Speed of the obstacle, mm/s: the paper's robots move at about 10 cm/s. (Slower or faster
+/// obstacles do not change the outcome much: the model alerts when the obstacle is 100–150 mm
+/// away whatever its speed; see docs/experiments.md.)
+pub const DEFAULT_SPEED_MM_S: f64 = 100.0;
 /// Widest bearing, degrees: the edge of the 70° field of view (paper: −35°..35°).
 pub const MAX_BEARING_DEG: f64 = 35.0;
 
