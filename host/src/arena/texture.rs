@@ -96,15 +96,16 @@ impl ColumnSampler<'_> {
         let (na, nb) = (self.a0.len(), self.b0.len());
         let (a0, a1) = (self.a0, &self.a1[..na]);
         let (b0, b1) = (self.b0, &self.b1[..nb]);
-        let (la, lb) = (na as i64 - 1, nb as i64 - 1);
+        // Indices are clamped to 0..=n−1 in `usize`, so the compiler sees they are in bounds.
+        let (la, lb) = (na.saturating_sub(1), nb.saturating_sub(1));
         let mut fa = (v_top_mm * self.scale_a * ONE) as i64;
         let mut fb = (v_top_mm * self.scale_b * ONE) as i64;
         let da = (dv_mm * self.scale_a * ONE) as i64;
         let db = (dv_mm * self.scale_b * ONE) as i64;
         let (wa, wb, t) = (self.wa, self.wb, self.t);
         for g in out {
-            let ia = (fa >> 16).clamp(0, la) as usize;
-            let ib = (fb >> 16).clamp(0, lb) as usize;
+            let ia = ((fa >> 16).max(0) as usize).min(la);
+            let ib = ((fb >> 16).max(0) as usize).min(lb);
             let (p, q) = (f32::from(a0[ia]), f32::from(a1[ia]));
             let a = p + wa * (q - p);
             let (p, q) = (f32::from(b0[ib]), f32::from(b1[ib]));
