@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
+use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::fsm::Behaviour;
 use alvs_tasks::{Params, HEIGHT, WIDTH};
@@ -62,6 +63,133 @@ enum Cmd {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
+    /// Experiment 1 (paper Fig. 3): a standing ALVS robot watches obstacle robots translate,
+    /// recede, approach, and two and three approach at once; attention-field tracks, LPLC2
+    /// traces and layer pictures per scene.
+    Stimuli(StimuliArgs),
+    /// Experiment 2 (paper Fig. 4a,c,d): one obstacle robot approaches the standing tested
+    /// robot at a constant speed from 9 bearings, -35..35 deg; per bearing, did it escape to
+    /// the side away from the obstacle, and did it collide? ALVS and LGMD2 with the same seed.
+    Evasion(EvasionArgs),
+    /// Experiment 3 (paper Fig. 4b): two obstacle robots approach at once from opposite sides
+    /// at unequal speeds; over --runs random geometries, how often does the tested robot end
+    /// on the side away from the faster one?
+    TwoThreats(TwoThreatArgs),
+    /// Experiment 5 (paper Fig. 7): robots in the spin-on-approach (swarm) mode wander in the
+    /// arena; the spread of the group over time, against the same robots escaping.
+    Swarm(SwarmArgs),
+}
+
+/// Options every experiment has.
+#[derive(clap::Args)]
+struct CommonArgs {
+    /// Seed of everything random (noise, geometry, LGMD2's turns).
+    #[arg(long, default_value_t = 1, value_name = "S")]
+    seed: u64,
+    /// Wall texture: plain:GREY, stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED,
+    /// outdoor:SEED, or a PNG/JPEG picture's path.
+    #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
+    background: String,
+    /// Independent trials run in parallel on this many threads (default: the available
+    /// parallelism); results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+    /// Write the results as JSON.
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+}
+
+impl CommonArgs {
+    fn jobs(&self) -> Result<usize> {
+        match self.jobs {
+            Some(0) => anyhow::bail!("--jobs must be at least 1"),
+            Some(j) => Ok(j),
+            None => Ok(parallel::default_jobs()),
+        }
+    }
+
+    fn write_json(&self, value: &serde_json::Value) -> Result<()> {
+        if let Some(path) = &self.json {
+            let text = serde_json::to_string(value)?;
+            std::fs::write(path, text + "\n")
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+struct StimuliArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// Where the pictures go.
+    #[arg(long, default_value = "out/stimuli", value_name = "DIR")]
+    png: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct EvasionArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// Start distance of the obstacle, mm (centre to centre).
+    #[arg(long, default_value_t = evasion::DEFAULT_DISTANCE_MM, value_name = "MM")]
+    distance: f64,
+    /// Speed of the obstacle, mm/s.
+    #[arg(long, default_value_t = evasion::DEFAULT_SPEED_MM_S, value_name = "MM_S")]
+    speed: f64,
+    /// Controller of the tested robot (repeatable). Default: alvs and lgmd2.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<ControllerArg>,
+    /// Where the picture goes.
+    #[arg(long, default_value = "out/evasion", value_name = "DIR")]
+    png: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct TwoThreatArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// Random geometries per controller.
+    #[arg(long, default_value_t = 20, value_name = "N")]
+    runs: usize,
+    /// Speed of the faster obstacle, mm/s.
+    #[arg(long, default_value_t = 200.0, value_name = "MM_S")]
+    fast: f64,
+    /// Speed of the slower obstacle, mm/s.
+    #[arg(long, default_value_t = 100.0, value_name = "MM_S")]
+    slow: f64,
+    /// Controller of the tested robot (repeatable). Default: alvs and lgmd2.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<ControllerArg>,
+    /// Where the picture goes.
+    #[arg(long, default_value = "out/two-threats", value_name = "DIR")]
+    png: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct SwarmArgs {
+    #[command(flatten)]
+    common: CommonArgs,
+    /// Simulated minutes per trial.
+    #[arg(
+        long,
+        default_value_t = 5.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena.
+    #[arg(long, default_value_t = 6, value_name = "N")]
+    robots: usize,
+    /// Controller (repeatable; one trial each). Default: swarm, and alvs as the reference.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<ControllerArg>,
+    /// Where the pictures go.
+    #[arg(long, default_value = "out/swarm", value_name = "DIR")]
+    png: PathBuf,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -98,8 +226,8 @@ struct ArenaArgs {
     #[arg(long, default_value_t = 3, value_name = "N")]
     robots: usize,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
-    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED (the number may be left out: grey 128,
-    /// 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
+    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
+    /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
     /// Default: clutter:1, stripes:40, checker:60.
     #[arg(long = "background", value_name = "SPEC")]
     backgrounds: Vec<String>,
@@ -301,6 +429,10 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Cmd::Arena(a) => run_arena(a),
+        Cmd::Stimuli(a) => run_stimuli(a),
+        Cmd::Evasion(a) => run_evasion(a),
+        Cmd::TwoThreats(a) => run_two_threats(a),
+        Cmd::Swarm(a) => run_swarm(a),
         Cmd::Budget { args } => run_budget(&args),
     }
 }
@@ -330,6 +462,120 @@ fn run_budget(args: &[String]) -> Result<()> {
         bail!("alvs-budget failed ({status})");
     }
     Ok(())
+}
+
+/// A progress bar on stderr for `total` camera frames (hidden by indicatif when stderr is not
+/// a terminal: CI logs, pipes).
+fn progress_bar(name: &str, total: u64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{name} {{elapsed_precise}} [{{bar:40}}] {{percent:>3}}% of {{len}} frames, eta {{eta}}"
+        ))
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
+fn kinds(args: &[ControllerArg], default: &[Kind]) -> Vec<Kind> {
+    if args.is_empty() {
+        default.to_vec()
+    } else {
+        let mut v: Vec<Kind> = Vec::new();
+        for k in args.iter().map(|c| c.kind()) {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+        }
+        v
+    }
+}
+
+/// Prints the table, the pictures' directory and the JSON path.
+fn report(
+    table: &str,
+    pictures: &[PathBuf],
+    dir: &std::path::Path,
+    json: &Option<PathBuf>,
+) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    write!(out, "{table}")?;
+    writeln!(out, "{} pictures in {}", pictures.len(), dir.display())?;
+    if let Some(path) = json {
+        writeln!(out, "JSON in {}", path.display())?;
+    }
+    Ok(())
+}
+
+fn run_stimuli(a: StimuliArgs) -> Result<()> {
+    let config = stimuli::StimuliConfig {
+        seed: a.common.seed,
+        params: parse_params(&a.common.params)?,
+        background: a.common.background.clone(),
+    };
+    let r = stimuli::run(&config, a.common.jobs()?)?;
+    let pictures = r.write_pictures(&a.png)?;
+    a.common.write_json(&r.json())?;
+    report(&r.table(), &pictures, &a.png, &a.common.json)
+}
+
+fn run_evasion(a: EvasionArgs) -> Result<()> {
+    let config = evasion::EvasionConfig {
+        distance_mm: a.distance,
+        speed_mm_s: a.speed,
+        controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
+        seed: a.common.seed,
+        params: parse_params(&a.common.params)?,
+        background: a.common.background.clone(),
+        ..evasion::EvasionConfig::default()
+    };
+    config.validate()?;
+    let bar = progress_bar("evasion", config.total_frames());
+    let r = evasion::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let r = r?;
+    let pictures = r.write_pictures(&a.png)?;
+    a.common.write_json(&r.json())?;
+    report(&r.table(), &pictures, &a.png, &a.common.json)
+}
+
+fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
+    let config = two_threats::TwoThreatConfig {
+        runs: a.runs,
+        fast_mm_s: a.fast,
+        slow_mm_s: a.slow,
+        controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
+        seed: a.common.seed,
+        params: parse_params(&a.common.params)?,
+        background: a.common.background.clone(),
+    };
+    config.validate()?;
+    let bar = progress_bar("two-threats", config.total_frames());
+    let r = two_threats::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let r = r?;
+    let pictures = r.write_pictures(&a.png)?;
+    a.common.write_json(&r.json())?;
+    report(&r.table(), &pictures, &a.png, &a.common.json)
+}
+
+fn run_swarm(a: SwarmArgs) -> Result<()> {
+    let config = swarm::SwarmConfig {
+        robots: a.robots,
+        minutes: a.minutes,
+        controllers: kinds(&a.controllers, &[Kind::Swarm, Kind::Alvs]),
+        seed: a.common.seed,
+        params: parse_params(&a.common.params)?,
+        background: a.common.background.clone(),
+    };
+    let bar = progress_bar("swarm", config.total_frames());
+    let r = swarm::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let r = r?;
+    let pictures = r.write_pictures(&a.png)?;
+    a.common.write_json(&r.json())?;
+    report(&r.table(), &pictures, &a.png, &a.common.json)
 }
 
 fn run_arena(a: ArenaArgs) -> Result<()> {

@@ -176,7 +176,10 @@ impl Retina {
         };
         let g = self.delay_q8;
         let rows = above.iter().zip(mid).zip(below);
-        let maps = on.iter_mut().zip(off.iter_mut()).zip(on_d.iter_mut().zip(off_d.iter_mut()));
+        let maps = on
+            .iter_mut()
+            .zip(off.iter_mut())
+            .zip(on_d.iter_mut().zip(off_d.iter_mut()));
         for (((&a, &m), &b), ((on, off), (on_d, off_d))) in rows.zip(maps) {
             let s = a + m + b;
             *on_d = delay_step(*on_d, *on, g);

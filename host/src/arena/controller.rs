@@ -27,6 +27,12 @@ pub trait Controller: Send {
     fn name(&self) -> &'static str;
     /// One camera frame.
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command;
+    /// Whether the controller looks at its frame. A blind one (a scripted obstacle) is handed
+    /// a stale frame and the camera is not rendered for it: rendering is most of the cost of a
+    /// robot that runs no model.
+    fn sees(&self) -> bool {
+        true
+    }
 }
 
 /// Which controller a robot runs.
@@ -205,6 +211,10 @@ impl Controller for Scripted {
         "scripted"
     }
 
+    fn sees(&self) -> bool {
+        false
+    }
+
     fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
         Command {
             left_mm_s: self.left_mm_s,
@@ -224,12 +234,94 @@ impl Controller for Stationary {
         self.0.name()
     }
 
+    fn sees(&self) -> bool {
+        self.0.sees()
+    }
+
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
         let c = self.0.step(frame, heading_deg);
         Command {
             left_mm_s: 0.0,
             right_mm_s: 0.0,
             ..c
+        }
+    }
+}
+
+/// An obstacle robot of the paper's open-loop trials (Fig. 4a): drives straight at a constant
+/// speed for a given number of camera frames, then stops (so that it ends where it was aimed,
+/// not chasing an evader across the arena).
+pub struct Approach {
+    /// Forward speed, mm/s.
+    pub speed_mm_s: f32,
+    /// Frames left to drive.
+    pub frames_left: u32,
+}
+
+impl Controller for Approach {
+    fn name(&self) -> &'static str {
+        "scripted"
+    }
+
+    fn sees(&self) -> bool {
+        false
+    }
+
+    fn step(&mut self, _frame: &Frame, _heading_deg: f32) -> Command {
+        let v = if self.frames_left > 0 {
+            self.frames_left -= 1;
+            self.speed_mm_s
+        } else {
+            0.0
+        };
+        Command {
+            left_mm_s: v,
+            right_mm_s: v,
+            state: "scripted",
+            alert: false,
+        }
+    }
+}
+
+/// A robot that stands still, its perception running, until its controller first alerts; from
+/// then on the controller drives it. This is the tested robot of the paper's evasion trials:
+/// "placed at the same initial position" while an obstacle approaches. Once released it stays
+/// released.
+pub struct HoldUntilAlert {
+    inner: Box<dyn Controller>,
+    released: bool,
+}
+
+impl HoldUntilAlert {
+    /// Holds `inner` still until its first alert.
+    pub fn new(inner: Box<dyn Controller>) -> Self {
+        HoldUntilAlert {
+            inner,
+            released: false,
+        }
+    }
+}
+
+impl Controller for HoldUntilAlert {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn sees(&self) -> bool {
+        self.inner.sees()
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let c = self.inner.step(frame, heading_deg);
+        self.released |= c.alert;
+        if self.released {
+            c
+        } else {
+            Command {
+                left_mm_s: 0.0,
+                right_mm_s: 0.0,
+                ..c
+            }
         }
     }
 }

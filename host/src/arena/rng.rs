@@ -81,13 +81,18 @@ impl Rng {
     #[inline]
     pub fn normal_pair(&mut self) -> (f32, f32) {
         let r = self.next_u64();
-        let sum4 =
-            |x: u64| (x & 0xff) + ((x >> 8) & 0xff) + ((x >> 16) & 0xff) + ((x >> 24) & 0xff);
+        // Both halves' byte sums at once (SWAR): add neighbouring bytes into 16-bit lanes, then
+        // neighbouring lanes into 32-bit lanes. Exactly the sums of the four bytes of each half,
+        // in about half the operations of summing them one by one (this runs per pixel pair).
+        const BYTES: u64 = 0x00ff_00ff_00ff_00ff;
+        const PAIRS: u64 = 0x0000_ffff_0000_ffff;
+        let pairs = (r & BYTES) + ((r >> 8) & BYTES);
+        let sums = (pairs & PAIRS) + ((pairs >> 16) & PAIRS);
         // Each byte: mean 127.5, variance (256² − 1)/12; four of them: sd 147.80.
         const SCALE: f32 = 1.0 / 147.799_86;
         (
-            (sum4(r) as f32 - 510.0) * SCALE,
-            (sum4(r >> 32) as f32 - 510.0) * SCALE,
+            ((sums & 0xffff_ffff) as f32 - 510.0) * SCALE,
+            ((sums >> 32) as f32 - 510.0) * SCALE,
         )
     }
 }
@@ -106,6 +111,21 @@ mod tests {
         let x = f1.next_u64();
         assert_eq!(x, f1b.next_u64());
         assert_ne!(x, f2.next_u64());
+    }
+
+    #[test]
+    fn normal_pair_sums_the_bytes_of_each_half() {
+        let (mut a, mut b) = (Rng::new(9), Rng::new(9));
+        for _ in 0..1000 {
+            let r = b.next_u64();
+            let sum4 = |x: u64| (0..4).map(|k| (x >> (8 * k)) & 0xff).sum::<u64>();
+            let expect = (
+                (sum4(r) as f32 - 510.0) / 147.799_86,
+                (sum4(r >> 32) as f32 - 510.0) / 147.799_86,
+            );
+            let got = a.normal_pair();
+            assert!((got.0 - expect.0).abs() < 1e-6 && (got.1 - expect.1).abs() < 1e-6);
+        }
     }
 
     #[test]

@@ -79,12 +79,16 @@ impl Sim {
     }
 
     /// One camera frame for every robot, then the physics of that frame. `see` is called with
-    /// each robot's index, its frame and its command (for pictures and per-frame records).
+    /// each robot's index, its frame and its command (for pictures and per-frame records); a
+    /// blind controller's ([`Controller::sees`]) frame is not rendered (it is whatever the
+    /// previous robot saw).
     pub fn step_with(&mut self, mut see: impl FnMut(usize, &Frame, &Command)) {
         for (i, robot) in self.robots.iter_mut().enumerate() {
-            robot
-                .camera
-                .capture(&self.renderer, self.physics.poses(), i, &mut self.frame);
+            if robot.controller.sees() {
+                robot
+                    .camera
+                    .capture(&self.renderer, self.physics.poses(), i, &mut self.frame);
+            }
             let heading = self.physics.gyro(i).heading() as f32;
             let cmd = robot.controller.step(&self.frame, heading);
             see(i, &self.frame, &cmd);

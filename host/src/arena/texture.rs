@@ -96,15 +96,16 @@ impl ColumnSampler<'_> {
         let (na, nb) = (self.a0.len(), self.b0.len());
         let (a0, a1) = (self.a0, &self.a1[..na]);
         let (b0, b1) = (self.b0, &self.b1[..nb]);
-        let (la, lb) = (na as i64 - 1, nb as i64 - 1);
+        // Indices are clamped to 0..=n−1 in `usize`, so the compiler sees they are in bounds.
+        let (la, lb) = (na.saturating_sub(1), nb.saturating_sub(1));
         let mut fa = (v_top_mm * self.scale_a * ONE) as i64;
         let mut fb = (v_top_mm * self.scale_b * ONE) as i64;
         let da = (dv_mm * self.scale_a * ONE) as i64;
         let db = (dv_mm * self.scale_b * ONE) as i64;
         let (wa, wb, t) = (self.wa, self.wb, self.t);
         for g in out {
-            let ia = (fa >> 16).clamp(0, la) as usize;
-            let ib = (fb >> 16).clamp(0, lb) as usize;
+            let ia = ((fa >> 16).max(0) as usize).min(la);
+            let ib = ((fb >> 16).max(0) as usize).min(lb);
             let (p, q) = (f32::from(a0[ia]), f32::from(a1[ia]));
             let a = p + wa * (q - p);
             let (p, q) = (f32::from(b0[ib]), f32::from(b1[ib]));
@@ -250,6 +251,7 @@ fn level0(tex: &WallTexture, cols: usize, rows: usize, height: f64) -> Vec<u8> {
             );
         }
         WallTexture::Clutter { seed } => clutter(*seed, cols, rows, texel, &mut data),
+        WallTexture::Outdoor { seed } => outdoor(*seed, cols, rows, texel, &mut data),
         WallTexture::Image(img) => image_level0(img, cols, rows, height, &mut data),
     }
     data
@@ -269,6 +271,57 @@ fn supersample(cols: usize, rows: usize, f: impl Fn(f64, f64) -> f64, data: &mut
                 }
             }
             data[i * rows + j] = (acc / 16.0).round().clamp(0.0, 255.0) as u8;
+        }
+    }
+}
+
+/// A procedural outdoor scene (see [`WallTexture::Outdoor`]): the clutter of the same seed
+/// (a "dead leaves" picture: occluding shapes of power-law sizes, which is what gives natural
+/// photographs their 1/f spectrum and their sharp edges) below a horizon that wanders between
+/// 55 % and 80 % of the wall height, a bright sky above it (grey 175–200, brightest at the
+/// top), and dark vertical trunks and poles (6–30 mm wide, about one per 150 mm of wall)
+/// reaching from the ground into the sky. Matched to the three outdoor photographs of
+/// `../shared/stimuli` (sky above ground, means 113–146, RMS contrast 0.28–0.51, horizontal
+/// amplitude spectra falling as f^−0.8 to f^−1.15). Wraps in `u`.
+fn outdoor(seed: u64, cols: usize, rows: usize, texel: f64, data: &mut [u8]) {
+    clutter(seed, cols, rows, texel, data);
+    let mut rng = Rng::new(seed).fork(0x0d);
+    let (perimeter, height) = (cols as f64 * texel, rows as f64 * texel);
+    // Horizon: a few slow sinusoids around 2/3 of the height.
+    let waves: Vec<(f64, f64, f64)> = (0..3)
+        .map(|k| {
+            let cycles = (1 + rng.below(4) + 3 * k) as f64;
+            let k = cycles * std::f64::consts::TAU / perimeter;
+            (
+                k,
+                rng.range(0.0, std::f64::consts::TAU),
+                rng.range(5.0, 12.0),
+            )
+        })
+        .collect();
+    let trunks: Vec<(f64, f64, u8)> = (0..(perimeter / 150.0).ceil() as usize)
+        .map(|_| {
+            let w = (6f64.ln() + rng.uniform() * 5f64.ln()).exp();
+            (rng.range(0.0, perimeter), w, rng.range(20.0, 80.0) as u8)
+        })
+        .collect();
+    for i in 0..cols {
+        let u = (i as f64 + 0.5) * texel;
+        let wave: f64 = waves.iter().map(|(k, ph, a)| a * (k * u + ph).sin()).sum();
+        let horizon = (0.675 * height + wave).clamp(0.55 * height, 0.8 * height);
+        let trunk = trunks.iter().find(|(c, w, _)| {
+            let d = (u - c).rem_euclid(perimeter);
+            d.min(perimeter - d) <= w / 2.0
+        });
+        for j in 0..rows {
+            let v = (j as f64 + 0.5) * texel;
+            if v < horizon {
+                continue;
+            }
+            data[i * rows + j] = match trunk {
+                Some(&(_, _, g)) => g,
+                None => (175.0 + 25.0 * (v - horizon) / (height - horizon).max(1.0)) as u8,
+            };
         }
     }
 }
@@ -457,6 +510,34 @@ mod tests {
             assert!((m.sampler(u, 160.0).at(30.0) - mid).abs() < 6.0);
         }
         assert!((m.mean() - mid).abs() < 3.0);
+    }
+
+    #[test]
+    fn outdoor_has_a_bright_sky_over_textured_ground() {
+        let w = World {
+            texture: WallTexture::Outdoor { seed: 3 },
+            ..World::default()
+        };
+        let img = WallMap::new(&w).unrolled();
+        assert_eq!(img, WallMap::new(&w).unrolled(), "reproducible");
+        let band = |r0: usize, r1: usize| -> (f64, f64) {
+            let px: Vec<f64> = (r0 * img.width..r1 * img.width)
+                .map(|i| f64::from(img.pixels[i]))
+                .collect();
+            let m = px.iter().sum::<f64>() / px.len() as f64;
+            let sd = (px.iter().map(|g| (g - m) * (g - m)).sum::<f64>() / px.len() as f64).sqrt();
+            (m, sd)
+        };
+        // top row = top of the wall: the top 15 % is sky (but for trunks), the bottom half ground
+        let (sky, sky_sd) = band(0, img.height * 15 / 100);
+        let (ground, ground_sd) = band(img.height / 2, img.height);
+        assert!(sky > ground + 30.0, "sky {sky}, ground {ground}");
+        assert!(sky_sd < ground_sd, "{sky_sd} {ground_sd}");
+        // RMS contrast of the ground as in outdoor photographs (0.28–0.51)
+        assert!(
+            (0.25..0.6).contains(&(ground_sd / ground)),
+            "{ground_sd} / {ground}"
+        );
     }
 
     #[test]

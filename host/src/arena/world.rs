@@ -219,6 +219,14 @@ pub enum WallTexture {
         /// Seed of the layout.
         seed: u64,
     },
+    /// A procedural outdoor scene with the statistics of natural photographs (the paper's
+    /// arena showed two outdoor scenes): bright sky in the upper part, darker ground below,
+    /// and 1/f ("pink") grey-level noise of RMS contrast ≈ 0.4 everywhere else, matched to the
+    /// three outdoor photographs in `../shared/stimuli` (see `texture`).
+    Outdoor {
+        /// Seed of the scene.
+        seed: u64,
+    },
     /// A picture, scaled to the wall height with its aspect ratio kept and repeated along the
     /// walls.
     Image(Arc<GreyImage>),
@@ -233,9 +241,13 @@ impl Default for WallTexture {
 }
 
 impl WallTexture {
+    /// The built-in textures' names in a specification.
+    pub const NAMES: [&'static str; 5] = ["plain", "stripes", "checker", "clutter", "outdoor"];
+
     /// Parses a background specification as a command line gives it: `plain[:GREY]`,
-    /// `stripes[:PERIOD_MM]`, `checker[:SIZE_MM]`, `clutter[:SEED]`, or else the path of a PNG
-    /// or JPEG picture. Defaults: grey 128, period 40 mm, squares 40 mm, seed 1.
+    /// `stripes[:PERIOD_MM]`, `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]`, or else
+    /// the path of a PNG or JPEG picture. Defaults: grey 128, period 40 mm, squares 40 mm,
+    /// seed 1.
     pub fn from_spec(spec: &str) -> anyhow::Result<Self> {
         let (name, arg) = match spec.split_once(':') {
             Some((n, a)) => (n, Some(a)),
@@ -264,6 +276,14 @@ impl WallTexture {
             "checker" => WallTexture::Checker {
                 size_mm: num(40.0)?,
             },
+            "outdoor" => WallTexture::Outdoor {
+                seed: match arg {
+                    None => DEFAULT_CLUTTER_SEED,
+                    Some(a) => a
+                        .parse()
+                        .with_context(|| format!("`{a}` in `{spec}` is not a seed"))?,
+                },
+            },
             "clutter" => WallTexture::Clutter {
                 seed: match arg {
                     None => DEFAULT_CLUTTER_SEED,
@@ -284,6 +304,7 @@ impl WallTexture {
             WallTexture::Stripes { period_mm } => format!("stripes:{period_mm}"),
             WallTexture::Checker { size_mm } => format!("checker:{size_mm}"),
             WallTexture::Clutter { seed } => format!("clutter:{seed}"),
+            WallTexture::Outdoor { seed } => format!("outdoor:{seed}"),
             WallTexture::Image(img) => format!("image {}x{}", img.width, img.height),
         }
     }

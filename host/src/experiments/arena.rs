@@ -158,11 +158,12 @@ impl ArenaConfig {
                 continue;
             }
             let name = spec.split_once(':').map_or(spec.as_str(), |(n, _)| n);
-            let known = ["plain", "stripes", "checker", "clutter"].contains(&name);
+            let known = WallTexture::NAMES.contains(&name);
             if !known && !Path::new(spec).exists() {
                 bail!(
                     "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], \
-                     checker[:SIZE_MM], clutter[:SEED] nor an existing PNG/JPEG file"
+                     checker[:SIZE_MM], clutter[:SEED], outdoor[:SEED] nor an existing \
+                     PNG/JPEG file"
                 );
             }
             let texture =

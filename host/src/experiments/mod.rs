@@ -4,6 +4,44 @@
 //!
 //! | experiment | paper | module |
 //! |---|---|---|
+//! | `stimuli`: a standing robot watches one, two, three robots move; AF tracks and layers | Fig. 3, Sec. III-A | [`stimuli`] |
+//! | `evasion`: one obstacle from nine bearings; escape side and collisions | Fig. 4a,c,d, Sec. III-B | [`evasion`] |
+//! | `two-threats`: two obstacles at unequal speeds; evading away from the faster | Fig. 4b, Sec. III-B | [`two_threats`] |
 //! | `arena`: robots wandering among each other and the walls, success rate and collisions | Figs. 5–6, Sec. III-C | [`arena`] |
+//! | `swarm`: six robots spinning on approach; spread of the group over time | Fig. 7, Sec. IV-D | [`swarm`] |
+//!
+//! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
+//! runs independent trials on worker threads.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+
+use crate::arena::WallTexture;
 
 pub mod arena;
+pub mod encounter;
+pub mod evasion;
+pub mod parallel;
+pub mod stimuli;
+pub mod swarm;
+pub mod two_threats;
+
+/// Reads a `--background` specification (`plain[:GREY]`, `stripes[:PERIOD_MM]`,
+/// `checker[:SIZE_MM]`, `clutter[:SEED]`, `foliage[:SEED]` or a PNG/JPEG path); the error is
+/// one line.
+pub fn texture(spec: &str) -> Result<WallTexture> {
+    let name = spec.split_once(':').map_or(spec, |(n, _)| n);
+    let known = WallTexture::NAMES.contains(&name);
+    if !known && !Path::new(spec).exists() {
+        bail!(
+            "--background {spec}: neither {} nor an existing PNG/JPEG file",
+            WallTexture::NAMES
+                .iter()
+                .map(|n| format!("{n}[:..]"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
+}

@@ -1,0 +1,295 @@
+//! The open-loop encounter behind experiments 2 (`evasion`) and 3 (`two-threats`), paper
+//! Sec. III-B, Fig. 4: a tested robot stands at a fixed place, one or more obstacle robots start
+//! at given bearings and distances from it and drive straight at its starting point at constant
+//! speeds; the tested robot's controller takes over at its first alert.
+//!
+//! # Geometry
+//!
+//! The tested robot starts at [`TESTED_START`] facing +x (towards the far, right-hand wall of
+//! the default arena, 750 mm away), so that obstacles up to 550 mm away at ±35° fit in the arena
+//! and it has 450 mm of floor behind it to escape into. Obstacle `k` starts `distance_mm` away at
+//! `bearing_deg` (positive = right of the tested robot's heading, inside its 70° field of view),
+//! faces the tested robot's start and drives at `speed_mm_s` until its centre reaches that point,
+//! where it stops: it does not chase an evader. The trial lasts until the last obstacle has
+//! arrived plus [`AFTER_ARRIVAL_S`].
+//!
+//! # Outcome
+//!
+//! - **collided**: a robot–robot collision (centre distance < 42 mm, the arena's counting)
+//!   between the tested robot and an obstacle at any time of the trial;
+//! - **escape turn**: the direction the tested robot chose, as in the paper's Fig. 4d: its
+//!   heading change from the start to the end of its first takeoff (the first frame its
+//!   controller leaves the state it entered at its first alert, or [`TURN_WINDOW_S`] after the
+//!   first alert if it stays). It turned left or right when the change exceeds [`TURN_MIN_DEG`], else it took no
+//!   side. Where it ended (`lateral_mm`, its displacement along its initial right-hand
+//!   direction) is reported too, but a collision can push a robot anywhere, so the side is the
+//!   chosen turn.
+
+use alvs_tasks::Params;
+
+use crate::arena::controller::{Approach, HoldUntilAlert};
+use crate::arena::{
+    ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, SensorNoise, Sim,
+    WallTexture, World, FRAME_DT_S,
+};
+
+/// Where the tested robot starts (x mm, y mm, heading °) in the default arena.
+pub const TESTED_START: (f64, f64, f64) = (450.0, 450.0, 0.0);
+/// Simulated time after the last obstacle's arrival, s: long enough for a takeoff and an
+/// escape to play out.
+pub const AFTER_ARRIVAL_S: f64 = 2.0;
+/// A turn smaller than this, degrees, takes no side.
+pub const TURN_MIN_DEG: f64 = 5.0;
+/// The escape turn is read when the first takeoff ends, or this long after the first alert.
+pub const TURN_WINDOW_S: f64 = 1.5;
+/// Camera frames between two trail samples (10 per second).
+pub const TRAIL_EVERY: u64 = 3;
+
+/// Random stream of the tested controller's seed (LGMD2's random turns).
+const CONTROLLER_STREAM: u64 = 0x007e_57ed;
+
+/// One obstacle robot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Threat {
+    /// Bearing of its start from the tested robot, degrees, positive = right.
+    pub bearing_deg: f64,
+    /// Centre distance of its start from the tested robot's centre, mm.
+    pub distance_mm: f64,
+    /// Its constant speed, mm/s.
+    pub speed_mm_s: f64,
+}
+
+impl Threat {
+    /// Frames it drives before it reaches the tested robot's start.
+    pub fn frames_to_arrive(&self) -> u64 {
+        (self.distance_mm / self.speed_mm_s / FRAME_DT_S).ceil() as u64
+    }
+
+    /// Its start pose: `distance_mm` from `tested` at `bearing_deg`, facing `tested`.
+    pub fn start_pose(&self, tested: &Pose) -> Pose {
+        let b = self.bearing_deg.to_radians();
+        let (x, y) = tested.offset(self.distance_mm * b.cos(), self.distance_mm * b.sin());
+        let towards = (tested.y_mm - y).atan2(tested.x_mm - x).to_degrees();
+        Pose::new(x, y, towards)
+    }
+}
+
+/// Which way the tested robot turned to escape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    /// Turned left by more than [`TURN_MIN_DEG`].
+    Left,
+    /// Turned right by more than [`TURN_MIN_DEG`].
+    Right,
+    /// Neither.
+    None,
+}
+
+impl Side {
+    /// The side of a heading change (negative = left).
+    pub fn of(turn_deg: f64) -> Side {
+        if turn_deg < -TURN_MIN_DEG {
+            Side::Left
+        } else if turn_deg > TURN_MIN_DEG {
+            Side::Right
+        } else {
+            Side::None
+        }
+    }
+
+    /// The side away from a threat at `bearing_deg` (`None` for a threat dead ahead).
+    pub fn away_from(bearing_deg: f64) -> Side {
+        if bearing_deg > 0.0 {
+            Side::Left
+        } else if bearing_deg < 0.0 {
+            Side::Right
+        } else {
+            Side::None
+        }
+    }
+}
+
+/// One encounter to run.
+#[derive(Debug, Clone)]
+pub struct Encounter {
+    /// The tested robot's controller.
+    pub kind: Kind,
+    /// The obstacles.
+    pub threats: Vec<Threat>,
+    /// Seed of the noise and of the controller.
+    pub seed: u64,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Wall texture.
+    pub texture: WallTexture,
+    /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
+    pub noise: bool,
+}
+
+/// What happened.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EncounterResult {
+    /// The tested robot collided with obstacle `k` (one flag per threat).
+    pub collided_with: Vec<bool>,
+    /// Its final displacement to its initial right, mm (negative = left).
+    pub lateral_mm: f64,
+    /// Its final displacement along its initial heading, mm.
+    pub forward_mm: f64,
+    /// Its heading change from the start to the end of its first takeoff, degrees (positive =
+    /// turned right; 0 if it never alerted).
+    pub escape_turn_deg: f64,
+    /// Simulated time of its first alert, s.
+    pub first_alert_s: Option<f64>,
+    /// Smallest centre distance to each obstacle, mm (after the physics resolved overlaps).
+    pub min_distance_mm: Vec<f64>,
+    /// Camera frames simulated.
+    pub frames: u64,
+    /// Positions of the tested robot (index 0) and the obstacles, every [`TRAIL_EVERY`]
+    /// frames, mm.
+    pub trails: Vec<Vec<(f64, f64)>>,
+    /// Final poses (tested robot first).
+    pub end_poses: Vec<Pose>,
+}
+
+impl EncounterResult {
+    /// It collided with any obstacle.
+    pub fn collided(&self) -> bool {
+        self.collided_with.iter().any(|&c| c)
+    }
+
+    /// The side it turned to.
+    pub fn side(&self) -> Side {
+        Side::of(self.escape_turn_deg)
+    }
+}
+
+/// The tested robot's start pose.
+pub fn tested_start() -> Pose {
+    Pose::new(TESTED_START.0, TESTED_START.1, TESTED_START.2)
+}
+
+/// Camera frames an encounter with `threats` lasts.
+pub fn frames_of(threats: &[Threat]) -> u64 {
+    let arrive = threats
+        .iter()
+        .map(Threat::frames_to_arrive)
+        .max()
+        .unwrap_or(0);
+    arrive + (AFTER_ARRIVAL_S / FRAME_DT_S).round() as u64
+}
+
+/// Runs one encounter; `progress` is told of simulated frames.
+pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
+    let world = World::with_texture(e.texture.clone());
+    let mut sim = Sim::new(&world, e.seed);
+    let (motor, gyro, noise) = if e.noise {
+        (
+            MotorParams::default(),
+            GyroParams::default(),
+            SensorNoise::typical(),
+        )
+    } else {
+        (
+            MotorParams::ideal(),
+            GyroParams::ideal(),
+            SensorNoise::default(),
+        )
+    };
+    let start = tested_start();
+    let controller_seed = Rng::new(e.seed).fork(CONTROLLER_STREAM).next_u64();
+    let tested = HoldUntilAlert::new(e.kind.make(e.params, controller_seed));
+    sim.add(start, Box::new(tested), motor, gyro, noise);
+    for t in &e.threats {
+        let obstacle = Approach {
+            speed_mm_s: t.speed_mm_s as f32,
+            frames_left: t.frames_to_arrive().min(u64::from(u32::MAX)) as u32,
+        };
+        // Obstacles drive ideally: they are the stimulus, the same in every trial.
+        sim.add(
+            t.start_pose(&start),
+            Box::new(obstacle),
+            MotorParams::ideal(),
+            GyroParams::ideal(),
+            SensorNoise::default(),
+        );
+    }
+    let frames = frames_of(&e.threats);
+    let n = e.threats.len();
+    let mut min_distance = vec![f64::INFINITY; n];
+    let mut trails: Vec<Vec<(f64, f64)>> = sim
+        .physics
+        .poses()
+        .iter()
+        .map(|p| vec![(p.x_mm, p.y_mm)])
+        .collect();
+    let mut first_alert = None;
+    let mut takeoff_state = "";
+    let mut escape_turn = None;
+    let window = (TURN_WINDOW_S / FRAME_DT_S).round() as u64;
+    for f in 0..frames {
+        let mut state = "";
+        sim.step_with(|i, _, cmd| {
+            if i == 0 {
+                if cmd.alert && first_alert.is_none() {
+                    first_alert = Some(f);
+                    takeoff_state = cmd.state;
+                }
+                state = cmd.state;
+            }
+        });
+        let poses = sim.physics.poses();
+        if let (Some(a), None) = (first_alert, escape_turn) {
+            if state != takeoff_state || f >= a + window {
+                escape_turn = Some(crate::arena::world::wrap_deg(
+                    poses[0].heading_deg - start.heading_deg,
+                ));
+            }
+        }
+        for (k, d) in min_distance.iter_mut().enumerate() {
+            *d = d.min(poses[0].distance_to(&poses[k + 1]));
+        }
+        if (f + 1) % TRAIL_EVERY == 0 {
+            for (trail, p) in trails.iter_mut().zip(poses) {
+                trail.push((p.x_mm, p.y_mm));
+            }
+        }
+        if (f + 1) % 30 == 0 {
+            progress(30);
+        }
+    }
+    progress(frames % 30);
+    let mut collided_with = vec![false; n];
+    for ev in sim.physics.contacts().events() {
+        if let ContactEvent {
+            kind: EventKind::Collision,
+            robot: 0,
+            other: Other::Robot(j),
+            ..
+        } = *ev
+        {
+            collided_with[j - 1] = true;
+        }
+    }
+    let end = sim.physics.poses()[0];
+    let (dx, dy) = (end.x_mm - start.x_mm, end.y_mm - start.y_mm);
+    let (fx, fy) = start.forward();
+    let (rx, ry) = start.right();
+    EncounterResult {
+        collided_with,
+        lateral_mm: dx * rx + dy * ry,
+        forward_mm: dx * fx + dy * fy,
+        escape_turn_deg: escape_turn.unwrap_or_else(|| {
+            if first_alert.is_some() {
+                crate::arena::world::wrap_deg(end.heading_deg - start.heading_deg)
+            } else {
+                0.0
+            }
+        }),
+        first_alert_s: first_alert.map(|f| (f + 1) as f64 * FRAME_DT_S),
+        min_distance_mm: min_distance,
+        frames,
+        trails,
+        end_poses: sim.physics.poses().to_vec(),
+    }
+}

@@ -1,0 +1,425 @@
+//! Experiment 2, `evasion` (paper Sec. III-B, Fig. 4a,c,d): one obstacle robot approaches the
+//! standing tested robot at a constant speed from each of nine bearings, −35°..35° (the edges
+//! and seven evenly spaced bearings in between, 8.75° apart); per bearing: did the tested robot
+//! escape to the side away from the obstacle, and did it collide? ALVS and LGMD2 meet the same
+//! obstacles with the same seeds.
+//!
+//! The geometry and outcome are [`super::encounter`]'s. The **correct side** for an obstacle on
+//! the right (positive bearing) is an escape turn to the left and vice versa; for the obstacle
+//! dead ahead (0°) both sides are away from it, and the trial counts as correct when the robot
+//! turned at least 90° either way (it faces away from the threat).
+
+use std::path::{Path, PathBuf};
+
+use alvs_tasks::Params;
+use anyhow::{ensure, Context, Result};
+use serde::Serialize;
+
+use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
+use super::parallel;
+use crate::arena::{Kind, Rng, TopDown, WallTexture, World};
+use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+
+/// Start distance of the obstacle, mm (centre to centre): about 12 robot diameters, so the
+/// obstacle first appears about 7 pixels wide and looms for several seconds.
+pub const DEFAULT_DISTANCE_MM: f64 = 500.0;
+/// Speed of the obstacle, mm/s: the paper's robots move at about 10 cm/s. (Slower or faster
+/// obstacles do not change the outcome much: the model alerts when the obstacle is 100–150 mm
+/// away whatever its speed; see docs/experiments.md.)
+pub const DEFAULT_SPEED_MM_S: f64 = 100.0;
+/// Widest bearing, degrees: the edge of the 70° field of view (paper: −35°..35°).
+pub const MAX_BEARING_DEG: f64 = 35.0;
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct EvasionConfig {
+    /// Bearings, evenly spaced over −35°..35° (9 in the paper).
+    pub angles: usize,
+    /// Start distance of the obstacle, mm.
+    pub distance_mm: f64,
+    /// Speed of the obstacle, mm/s.
+    pub speed_mm_s: f64,
+    /// Controllers of the tested robot.
+    pub controllers: Vec<Kind>,
+    /// Seed of the noise and of LGMD2's turns.
+    pub seed: u64,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Wall texture specification.
+    pub background: String,
+}
+
+impl Default for EvasionConfig {
+    fn default() -> Self {
+        EvasionConfig {
+            angles: 9,
+            distance_mm: DEFAULT_DISTANCE_MM,
+            speed_mm_s: DEFAULT_SPEED_MM_S,
+            controllers: vec![Kind::Alvs, Kind::Lgmd2],
+            seed: 1,
+            params: Params::default(),
+            background: "clutter:1".into(),
+        }
+    }
+}
+
+impl EvasionConfig {
+    /// The bearings, degrees.
+    pub fn bearings(&self) -> Vec<f64> {
+        bearings(self.angles)
+    }
+
+    /// Checks the configuration and reads the background (one error line).
+    pub fn validate(&self) -> Result<WallTexture> {
+        ensure!(
+            (1..=181).contains(&self.angles),
+            "--angles must be 1..=181, got {}",
+            self.angles
+        );
+        ensure!(
+            self.distance_mm.is_finite() && (60.0..=550.0).contains(&self.distance_mm),
+            "--distance must be 60..=550 mm (the obstacle must start clear of the tested robot \
+             and inside the arena), got {}",
+            self.distance_mm
+        );
+        ensure!(
+            self.speed_mm_s.is_finite() && (10.0..=400.0).contains(&self.speed_mm_s),
+            "--speed must be 10..=400 mm/s, got {}",
+            self.speed_mm_s
+        );
+        ensure!(!self.controllers.is_empty(), "no controller to run");
+        self.params
+            .validate()
+            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::texture(&self.background)
+    }
+
+    /// Camera frames of one controller's trials (for a progress bar).
+    pub fn total_frames(&self) -> u64 {
+        let t = self.threat(0.0);
+        encounter::frames_of(&[t]) * self.angles as u64 * self.controllers.len() as u64
+    }
+
+    fn threat(&self, bearing_deg: f64) -> Threat {
+        Threat {
+            bearing_deg,
+            distance_mm: self.distance_mm,
+            speed_mm_s: self.speed_mm_s,
+        }
+    }
+}
+
+/// `n` bearings evenly spaced over −35°..35° (0° alone for `n` = 1).
+pub fn bearings(n: usize) -> Vec<f64> {
+    if n <= 1 {
+        return vec![0.0; n];
+    }
+    (0..n)
+        .map(|i| -MAX_BEARING_DEG + 2.0 * MAX_BEARING_DEG * i as f64 / (n - 1) as f64)
+        .map(|b| (b * 1e6).round() / 1e6 + 0.0)
+        .collect()
+}
+
+/// One bearing's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AngleOutcome {
+    /// Bearing of the obstacle, degrees, positive = right.
+    pub angle_deg: f64,
+    /// The side away from the obstacle (`none` dead ahead).
+    pub away: Side,
+    /// The side the robot turned to.
+    pub side: Side,
+    /// Escaped to the correct side (see the module documentation).
+    pub correct_side: bool,
+    /// Collided with the obstacle.
+    pub collided: bool,
+    /// Final displacement to the initial right, mm.
+    pub lateral_mm: f64,
+    /// Final displacement along the initial heading, mm.
+    pub forward_mm: f64,
+    /// Heading change from the start to the end of the first takeoff, degrees.
+    pub escape_turn_deg: f64,
+    /// First alert, s after the start; `null` if it never alerted.
+    pub first_alert_s: Option<f64>,
+    /// Closest centre distance to the obstacle, mm.
+    pub min_distance_mm: f64,
+    /// Tested robot's positions, 10 per second, mm.
+    pub trail: Vec<[f64; 2]>,
+    /// Obstacle's positions, mm.
+    pub obstacle_trail: Vec<[f64; 2]>,
+}
+
+impl AngleOutcome {
+    fn new(angle_deg: f64, r: &EncounterResult) -> Self {
+        let away = Side::away_from(angle_deg);
+        let collided = r.collided();
+        let side = r.side();
+        let correct_side = match away {
+            Side::None => r.escape_turn_deg.abs() >= 90.0,
+            s => s == side,
+        };
+        let round = |t: &Vec<(f64, f64)>| -> Vec<[f64; 2]> {
+            t.iter().map(|&(x, y)| [round1(x), round1(y)]).collect()
+        };
+        AngleOutcome {
+            angle_deg,
+            away,
+            side,
+            correct_side,
+            collided,
+            lateral_mm: round1(r.lateral_mm),
+            forward_mm: round1(r.forward_mm),
+            escape_turn_deg: round1(r.escape_turn_deg),
+            first_alert_s: r.first_alert_s.map(|s| (s * 1000.0).round() / 1000.0),
+            min_distance_mm: round1(r.min_distance_mm[0]),
+            trail: round(&r.trails[0]),
+            obstacle_trail: round(&r.trails[1]),
+        }
+    }
+}
+
+fn round1(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+/// One controller's trials.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControllerEvasion {
+    /// "alvs", "lgmd2", "swarm".
+    pub controller: &'static str,
+    /// Bearings tried.
+    pub angles: usize,
+    /// Bearings escaped to the correct side.
+    pub correct_side: usize,
+    /// Bearings with a collision.
+    pub collisions: usize,
+    /// Bearings at which it alerted at all.
+    pub alerted: usize,
+    /// Per bearing, from −35° to 35°.
+    pub per_angle: Vec<AngleOutcome>,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct EvasionReport {
+    /// What ran.
+    pub config: EvasionConfig,
+    /// One per controller, in the configuration's order.
+    pub controllers: Vec<ControllerEvasion>,
+    /// Wall-clock seconds.
+    pub wall_clock_s: f64,
+}
+
+/// Runs every (controller, bearing) trial on `jobs` threads (0 = all cores).
+pub fn run(
+    config: &EvasionConfig,
+    jobs: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<EvasionReport> {
+    let texture = config.validate()?;
+    let t0 = std::time::Instant::now();
+    let bearings = config.bearings();
+    let plan: Vec<(Kind, f64)> = config
+        .controllers
+        .iter()
+        .flat_map(|&k| bearings.iter().map(move |&b| (k, b)))
+        .collect();
+    let results = parallel::map(plan.len(), jobs, |i| {
+        let (kind, b) = plan[i];
+        let e = Encounter {
+            kind,
+            threats: vec![config.threat(b)],
+            // each bearing its own noise and LGMD2 turn, the same for every controller
+            seed: Rng::new(config.seed)
+                .fork((i % bearings.len()) as u64)
+                .next_u64(),
+            params: config.params,
+            texture: texture.clone(),
+            noise: true,
+        };
+        AngleOutcome::new(b, &encounter::run(&e, progress))
+    });
+    let controllers = config
+        .controllers
+        .iter()
+        .enumerate()
+        .map(|(c, &kind)| {
+            let per_angle: Vec<AngleOutcome> =
+                results[c * bearings.len()..(c + 1) * bearings.len()].to_vec();
+            ControllerEvasion {
+                controller: kind.name(),
+                angles: per_angle.len(),
+                correct_side: per_angle.iter().filter(|o| o.correct_side).count(),
+                collisions: per_angle.iter().filter(|o| o.collided).count(),
+                alerted: per_angle
+                    .iter()
+                    .filter(|o| o.first_alert_s.is_some())
+                    .count(),
+                per_angle,
+            }
+        })
+        .collect();
+    Ok(EvasionReport {
+        config: config.clone(),
+        controllers,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+impl EvasionReport {
+    /// `{"alvs":{"angles":9,"correct_side":k,"collisions":c,...},"lgmd2":{...}}`.
+    pub fn json(&self) -> serde_json::Value {
+        let mut map = serde_json::Map::new();
+        for c in &self.controllers {
+            map.insert(
+                c.controller.to_string(),
+                serde_json::to_value(c).expect("outcomes serialise"),
+            );
+        }
+        let cfg = &self.config;
+        map.insert(
+            "config".into(),
+            serde_json::json!({
+                "distance_mm": cfg.distance_mm,
+                "speed_mm_s": cfg.speed_mm_s,
+                "seed": cfg.seed,
+                "background": cfg.background,
+            }),
+        );
+        serde_json::Value::Object(map)
+    }
+
+    /// One line per bearing and controller, then the totals.
+    pub fn table(&self) -> String {
+        use std::fmt::Write;
+        let c = &self.config;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "evasion: obstacle from {} bearings, {} mm away at {} mm/s, background {}, seed {}, {:.1} s",
+            c.angles, c.distance_mm, c.speed_mm_s, c.background, c.seed, self.wall_clock_s
+        );
+        let _ = writeln!(
+            out,
+            "{:<8} {:>8} {:>6} {:>6} {:>6} {:>8} {:>9} {:>8} {:>9} {:>8}",
+            "ctrl",
+            "bearing",
+            "away",
+            "turn",
+            "deg",
+            "correct",
+            "collided",
+            "alert s",
+            "lateral",
+            "min mm"
+        );
+        for ce in &self.controllers {
+            for o in &ce.per_angle {
+                let _ = writeln!(
+                    out,
+                    "{:<8} {:>8.2} {:>6} {:>6} {:>6.0} {:>8} {:>9} {:>8} {:>9.0} {:>8.0}",
+                    ce.controller,
+                    o.angle_deg,
+                    side_name(o.away),
+                    side_name(o.side),
+                    o.escape_turn_deg,
+                    yes(o.correct_side),
+                    yes(o.collided),
+                    o.first_alert_s.map_or("-".into(), |s| format!("{s:.2}")),
+                    o.lateral_mm,
+                    o.min_distance_mm
+                );
+            }
+        }
+        for ce in &self.controllers {
+            let _ = writeln!(
+                out,
+                "{:<8} correct side {}/{}, collisions {}/{}, alerted {}/{}",
+                ce.controller,
+                ce.correct_side,
+                ce.angles,
+                ce.collisions,
+                ce.angles,
+                ce.alerted,
+                ce.angles
+            );
+        }
+        out
+    }
+
+    /// `evasion.png` in `dir`: one top-down panel per controller with the tested robot's path
+    /// for every bearing (one colour per bearing) and the obstacles' paths in grey.
+    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
+        let w: usize = panels.iter().map(|p| p.width).sum();
+        let h = panels.iter().map(|p| p.height).max().unwrap_or(1);
+        let mut c = Canvas::new(w.max(1), h, WHITE);
+        let mut x = 0;
+        for p in &panels {
+            c.blit(p, x, 0);
+            x += p.width as i32;
+        }
+        let path = dir.join("evasion.png");
+        c.save_png(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(vec![path])
+    }
+}
+
+fn side_name(s: Side) -> &'static str {
+    match s {
+        Side::Left => "left",
+        Side::Right => "right",
+        Side::None => "-",
+    }
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+const OBSTACLE: Rgb = [150, 150, 150];
+
+/// The zoomed top-down picture of one controller's trials.
+fn panel(ce: &ControllerEvasion) -> Canvas {
+    let arena = World::default().arena;
+    let mut td = TopDown::new(&arena, 0.6);
+    td.title(&format!(
+        "{}: correct side {}/{}, collisions {}/{}",
+        ce.controller.to_uppercase(),
+        ce.correct_side,
+        ce.angles,
+        ce.collisions,
+        ce.angles
+    ));
+    for o in &ce.per_angle {
+        let pts: Vec<(f64, f64)> = o.obstacle_trail.iter().map(|p| (p[0], p[1])).collect();
+        td.trail(&pts, OBSTACLE);
+        if let Some(s) = pts.first() {
+            td.mark(s.0, s.1, OBSTACLE);
+        }
+    }
+    for (k, o) in ce.per_angle.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = o.trail.iter().map(|p| (p[0], p[1])).collect();
+        td.trail(&pts, colour_cycle(k));
+        if let Some(e) = pts.last() {
+            td.mark(e.0, e.1, if o.collided { BLACK } else { colour_cycle(k) });
+        }
+    }
+    let start = encounter::tested_start();
+    td.robot(&start, [255, 255, 255]);
+    let mut pic = td.into_canvas();
+    let legend = "grey: obstacle paths (x = start); colours: tested robot per bearing, -35 deg \
+                  first; x = its end (black: collided)";
+    let (lw, lh) = Canvas::text_size(legend, 1);
+    let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
+    c.blit(&pic, 0, 0);
+    c.text(8, pic.height as i32 + 2, legend, BLACK, 1);
+    pic = c;
+    pic
+}

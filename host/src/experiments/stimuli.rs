@@ -1,0 +1,454 @@
+//! Experiment 1, `stimuli` (paper Sec. III-A, Fig. 3): the ALVS robot stands still, its
+//! perception running, while obstacle robots move in front of it in five patterns —
+//! translating, receding, approaching, two approaching, three approaching. Per scene: the
+//! attention fields over time (their tracks and LPLC2 responses), alerts, and the network's
+//! layers at the first alert and at the peak response.
+//!
+//! # Scenes
+//!
+//! The observer stands at [`OBSERVER`] facing +x; the obstacles (ideal motors) are placed by
+//! bearing and distance from the observer's centre:
+//!
+//! | scene | obstacles |
+//! |---|---|
+//! | `translate` | one, 300 mm ahead, crossing from −30° to +30° at 100 mm/s (left to right) |
+//! | `recede` | one, 100 mm ahead, driving straight away at 100 mm/s |
+//! | `approach` | one, 500 mm ahead, driving at the observer at 100 mm/s, stopping 100 mm away |
+//! | `double` | two at −20° and +20°, 500 mm, approaching as above |
+//! | `triple` | three at −25°, 0° and +25°, 500 mm, approaching as above |
+//!
+//! The observer's view of each obstacle is known (the pinhole model), so the report says how
+//! many of the obstacles an attention field sits on (`localised`, at the frame with most
+//! fields: a field's column within the obstacle's silhouette, widened by [`LOCALISED_PX`]
+//! columns on each side).
+
+use std::path::{Path, PathBuf};
+
+use alvs_tasks::fsm::Behaviour;
+use alvs_tasks::{Frame, Params};
+use anyhow::{Context, Result};
+use serde::Serialize;
+
+use super::parallel;
+use crate::arena::controller::{Approach, Stationary};
+use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
+use crate::arena::world::ROBOT_RADIUS_MM;
+use crate::arena::{GyroParams, Kind, MotorParams, Pose, SensorNoise, Sim, World};
+use crate::canvas::Plot;
+use crate::replay::{self, Pipeline};
+
+/// Observer's pose (x mm, y mm, heading °): in the left part of the default arena facing the
+/// right wall 900 mm away, so every obstacle is seen against the wall texture.
+pub const OBSERVER: (f64, f64, f64) = (300.0, 450.0, 0.0);
+/// An attention field within an obstacle's silhouette widened by this many columns on each
+/// side localises it.
+pub const LOCALISED_PX: f32 = 3.0;
+/// Distance from the observer's centre at which approaching obstacles stop, mm.
+pub const STOP_MM: f64 = 100.0;
+
+/// One obstacle's motion: start bearing (°, positive = right) and distance (mm) from the
+/// observer, heading relative to the direction towards the observer (0 = straight at it),
+/// speed (mm/s), frames it drives.
+#[derive(Debug, Clone, Copy)]
+struct Mover {
+    bearing_deg: f64,
+    distance_mm: f64,
+    heading_off_deg: f64,
+    speed_mm_s: f64,
+    frames: u32,
+}
+
+/// A scene of the experiment.
+#[derive(Debug, Clone)]
+pub struct StimulusScene {
+    /// Name (file names, JSON).
+    pub name: &'static str,
+    /// The obstacles approach the observer.
+    pub looming: bool,
+    movers: Vec<Mover>,
+    /// Camera frames.
+    pub frames: u32,
+}
+
+/// An obstacle approaching from `bearing_deg`, 500 mm away, to [`STOP_MM`].
+fn approacher(bearing_deg: f64) -> Mover {
+    let (d, v) = (500.0, 100.0);
+    Mover {
+        bearing_deg,
+        distance_mm: d,
+        heading_off_deg: 0.0,
+        speed_mm_s: v,
+        frames: ((d - STOP_MM) / v * 30.0).round() as u32,
+    }
+}
+
+/// The five scenes of Fig. 3.
+pub fn scenes() -> Vec<StimulusScene> {
+    let ahead = 300.0f64;
+    let y0 = ahead * (-30f64).to_radians().tan();
+    vec![
+        StimulusScene {
+            name: "translate",
+            looming: false,
+            movers: vec![Mover {
+                bearing_deg: -30.0,
+                distance_mm: ahead.hypot(y0),
+                // heading +90° (towards the observer's right): the line of sight back to the
+                // observer points at 150°
+                heading_off_deg: -60.0,
+                speed_mm_s: 100.0,
+                frames: 105,
+            }],
+            frames: 120,
+        },
+        StimulusScene {
+            name: "recede",
+            looming: false,
+            movers: vec![Mover {
+                bearing_deg: 0.0,
+                distance_mm: 100.0,
+                heading_off_deg: 180.0,
+                speed_mm_s: 100.0,
+                frames: 90,
+            }],
+            frames: 105,
+        },
+        StimulusScene {
+            name: "approach",
+            looming: true,
+            movers: vec![approacher(0.0)],
+            frames: 135,
+        },
+        StimulusScene {
+            name: "double",
+            looming: true,
+            movers: vec![approacher(-20.0), approacher(20.0)],
+            frames: 135,
+        },
+        StimulusScene {
+            name: "triple",
+            looming: true,
+            movers: vec![approacher(-25.0), approacher(0.0), approacher(25.0)],
+            frames: 135,
+        },
+    ]
+}
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct StimuliConfig {
+    /// Seed of the camera noise.
+    pub seed: u64,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Wall texture specification.
+    pub background: String,
+}
+
+impl Default for StimuliConfig {
+    fn default() -> Self {
+        StimuliConfig {
+            seed: 1,
+            params: Params::default(),
+            background: "clutter:1".into(),
+        }
+    }
+}
+
+/// An attention field's sample: `[frame, x, y, lplc2]`.
+pub type TrackPoint = [u32; 4];
+
+/// One attention field over its life.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Track {
+    /// The field's id.
+    pub id: u32,
+    /// Its samples.
+    pub points: Vec<TrackPoint>,
+}
+
+/// One scene's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneResult {
+    /// Scene name.
+    pub name: &'static str,
+    /// Obstacles.
+    pub objects: usize,
+    /// The obstacles approach.
+    pub looming: bool,
+    /// Frames.
+    pub frames: u32,
+    /// Frames with an alert.
+    pub alert_frames: u32,
+    /// First alert; `null` without one.
+    pub first_alert_frame: Option<u32>,
+    /// Frames in short mode (`ΣLPLC2 > T_s`).
+    pub short_mode_frames: u32,
+    /// Most attention fields at once.
+    pub max_afs: usize,
+    /// Largest `ΣLPLC2` and its frame.
+    pub peak_lplc2_sum: u32,
+    /// See `peak_lplc2_sum`.
+    pub peak_frame: u32,
+    /// Obstacles with an attention field on them, at the (last) frame with most fields.
+    pub localised: usize,
+    /// Every attention field's track.
+    pub tracks: Vec<Track>,
+    /// Each obstacle's image column per frame (`null` when out of view).
+    pub object_columns: Vec<Vec<Option<f32>>>,
+    #[serde(skip)]
+    observed: Vec<Frame>,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct StimuliReport {
+    /// What ran.
+    pub config: StimuliConfig,
+    /// One per scene.
+    pub scenes: Vec<SceneResult>,
+    /// Wall-clock seconds.
+    pub wall_clock_s: f64,
+}
+
+/// Runs the five scenes on `jobs` threads (0 = all cores).
+pub fn run(config: &StimuliConfig, jobs: usize) -> Result<StimuliReport> {
+    let texture = super::texture(&config.background)?;
+    config
+        .params
+        .validate()
+        .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+    let t0 = std::time::Instant::now();
+    let all = scenes();
+    let scenes = parallel::map(all.len(), jobs, |i| {
+        run_scene(&all[i], config, &World::with_texture(texture.clone()))
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>>>()?;
+    Ok(StimuliReport {
+        config: config.clone(),
+        scenes,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+fn observer() -> Pose {
+    Pose::new(OBSERVER.0, OBSERVER.1, OBSERVER.2)
+}
+
+fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Result<SceneResult> {
+    let mut sim = Sim::new(world, config.seed);
+    let me = observer();
+    // The observer must see (a blind scripted robot's frame is not rendered); its own copy of
+    // the model runs beside the one recorded here, and its wheels stay still.
+    let stand = Stationary(Kind::Alvs.make(config.params, 0));
+    sim.add(
+        me,
+        Box::new(stand),
+        MotorParams::ideal(),
+        GyroParams::ideal(),
+        SensorNoise::typical(),
+    );
+    for m in &scene.movers {
+        let b = m.bearing_deg.to_radians();
+        let (x, y) = me.offset(m.distance_mm * b.cos(), m.distance_mm * b.sin());
+        let towards = (me.y_mm - y).atan2(me.x_mm - x).to_degrees();
+        let mover = Approach {
+            speed_mm_s: m.speed_mm_s as f32,
+            frames_left: m.frames,
+        };
+        sim.add(
+            Pose::new(x, y, towards + m.heading_off_deg),
+            Box::new(mover),
+            MotorParams::ideal(),
+            GyroParams::ideal(),
+            SensorNoise::default(),
+        );
+    }
+    let mut pipe = Pipeline::new(config.params, Behaviour::Escape)?;
+    let mut observed: Vec<Frame> = Vec::with_capacity(scene.frames as usize);
+    let mut tracks: Vec<Track> = Vec::new();
+    let mut object_columns = vec![Vec::new(); scene.movers.len()];
+    let (mut alerts, mut shorts, mut first) = (0, 0, None);
+    let (mut max_afs, mut peak, mut peak_frame, mut localised) = (0, 0, 0, 0);
+    for f in 0..scene.frames {
+        // columns of the obstacles as the frame about to be rendered shows them
+        let cam = {
+            let (x, y) = me.offset(CAMERA_FORWARD_MM, 0.0);
+            Pose::new(x, y, me.heading_deg)
+        };
+        // (centre, left edge, right edge) columns of each obstacle's silhouette
+        let silhouettes: Vec<Option<(f32, f32, f32)>> = sim.physics.poses()[1..]
+            .iter()
+            .map(|p| {
+                let b = cam.bearing_to(p.x_mm, p.y_mm);
+                let d = cam.distance_to(p).max(ROBOT_RADIUS_MM + 1.0);
+                let half = (ROBOT_RADIUS_MM / d).asin().to_degrees();
+                let col = |a: f64| column_of_bearing(a.clamp(-89.0, 89.0)) as f32;
+                (b.abs() < 35.5).then(|| (col(b), col(b - half), col(b + half)))
+            })
+            .collect();
+        let columns: Vec<Option<f32>> = silhouettes.iter().map(|s| s.map(|s| s.0)).collect();
+        let mut frame: Option<Frame> = None;
+        sim.step_with(|i, fr, _| {
+            if i == 0 {
+                frame = Some(*fr);
+            }
+        });
+        let Some(frame) = frame else { continue };
+        let (out, json) = pipe.step(&frame);
+        observed.push(frame);
+        for (k, c) in columns.iter().enumerate() {
+            object_columns[k].push(c.map(|v| (v * 10.0).round() / 10.0));
+        }
+        alerts += u32::from(json.alert);
+        shorts += u32::from(json.short_mode);
+        if json.alert && first.is_none() {
+            first = Some(f);
+        }
+        if json.lplc2_sum > peak {
+            (peak, peak_frame) = (json.lplc2_sum, f);
+        }
+        for a in out.afs.iter() {
+            let point = [f, u32::from(a.x), u32::from(a.y), a.lplc2];
+            match tracks.iter_mut().find(|t| t.id == a.id) {
+                Some(t) => t.points.push(point),
+                None => tracks.push(Track {
+                    id: a.id,
+                    points: vec![point],
+                }),
+            }
+        }
+        if out.afs.len() >= max_afs && !out.afs.is_empty() {
+            max_afs = out.afs.len();
+            localised = silhouettes
+                .iter()
+                .flatten()
+                .filter(|&&(_, l, r)| {
+                    out.afs.iter().any(|a| {
+                        let x = f32::from(a.x);
+                        x >= l - LOCALISED_PX && x <= r + LOCALISED_PX
+                    })
+                })
+                .count();
+        }
+    }
+    Ok(SceneResult {
+        name: scene.name,
+        objects: scene.movers.len(),
+        looming: scene.looming,
+        frames: scene.frames,
+        alert_frames: alerts,
+        first_alert_frame: first,
+        short_mode_frames: shorts,
+        max_afs,
+        peak_lplc2_sum: peak,
+        peak_frame,
+        localised,
+        tracks,
+        object_columns,
+        observed,
+    })
+}
+
+impl StimuliReport {
+    /// `{"scenes":[{...}, ...]}`.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "scenes": self.scenes,
+            "seed": self.config.seed,
+            "background": self.config.background,
+        })
+    }
+
+    /// One line per scene.
+    pub fn table(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "stimuli: standing ALVS robot, obstacle robots moving in front of it (background {}, seed {}, {:.1} s)",
+            self.config.background, self.config.seed, self.wall_clock_s
+        );
+        let _ = writeln!(
+            out,
+            "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9}",
+            "scene",
+            "objects",
+            "looming",
+            "frames",
+            "alerts",
+            "first alert",
+            "short",
+            "max AFs",
+            "localised",
+            "peak sum"
+        );
+        for s in &self.scenes {
+            let _ = writeln!(
+                out,
+                "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9}",
+                s.name,
+                s.objects,
+                s.looming,
+                s.frames,
+                s.alert_frames,
+                s.first_alert_frame.map_or("-".into(), |f| f.to_string()),
+                s.short_mode_frames,
+                s.max_afs,
+                format!("{}/{}", s.localised, s.objects),
+                s.peak_lplc2_sum
+            );
+        }
+        out
+    }
+
+    /// Per scene: `<scene>_tracks.png` (each field's column over time with the obstacles'
+    /// columns), `<scene>_trace.png` (LPLC2 per field) and `<scene>_layers_NNNN.png` (the
+    /// layers at the first alert and the peak), in `dir`.
+    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let mut paths = Vec::new();
+        for s in &self.scenes {
+            let path = dir.join(format!("{}_tracks.png", s.name));
+            tracks_plot(s)
+                .render(900, 450)
+                .save_png(&path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            paths.push(path);
+            replay::run(
+                &s.observed,
+                self.config.params,
+                Behaviour::Escape,
+                Some((dir, &[], s.name)),
+                |_| Ok(()),
+            )?;
+        }
+        Ok(paths)
+    }
+}
+
+/// Column of every attention field and every obstacle over time.
+fn tracks_plot(s: &SceneResult) -> Plot {
+    let n = s.frames as usize;
+    let mut plot = Plot::new(&format!(
+        "{}: attention-field columns (AFn) and obstacle columns (obj)",
+        s.name
+    ))
+    .x_label("frame")
+    .y_range(0.0, 98.0);
+    for (k, cols) in s.object_columns.iter().enumerate() {
+        let ys: Vec<f32> = cols.iter().map(|c| c.unwrap_or(f32::NAN)).collect();
+        plot = plot.series(&format!("obj{}", k + 1), &ys);
+    }
+    for t in s.tracks.iter().take(8) {
+        let mut ys = vec![f32::NAN; n];
+        for p in &t.points {
+            if let Some(y) = ys.get_mut(p[0] as usize) {
+                *y = p[1] as f32;
+            }
+        }
+        plot = plot.series(&format!("AF{}", t.id), &ys);
+    }
+    plot
+}

@@ -1,0 +1,377 @@
+//! Experiment 5, `swarm` (paper Sec. IV-D, Fig. 7): six robots whose ALVS perception makes
+//! them spin in place on an approaching object instead of escaping; how does the spread of the
+//! group evolve? The same robots with the escape behaviour, from the same start poses and seed,
+//! are the reference.
+//!
+//! # Measures
+//!
+//! Once per simulated second: the group's **spread** (root-mean-square distance of the robots
+//! from their centroid, mm) and the **mean nearest-neighbour distance** (centre to centre, mm).
+//! Per trial: both at the start and averaged over the first and the last minute (or the whole
+//! trial if shorter), the time per controller state, and robot–robot collisions per minute
+//! (the arena's counting). The paper's swarm moved "toward a swarm leader and eventually
+//! clustered together"; our robots have no leader (the paper does not say how one was
+//! designated), so the experiment measures what spin-on-approach alone does to a group.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use alvs_tasks::Params;
+use anyhow::{ensure, Context, Result};
+use serde::Serialize;
+
+use super::arena::start_poses;
+use super::parallel;
+use crate::arena::{
+    GyroParams, Kind, MotorParams, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
+};
+use crate::canvas::{colour_cycle, Plot};
+
+/// Random stream of the controllers' seeds (robot `i` takes sub-stream `i`).
+const CONTROLLER_STREAM: u64 = 0x5aa2;
+/// Camera frames between two trail samples (5 per second).
+const TRAIL_EVERY: u64 = 6;
+/// Camera frames between two spread samples (1 per second).
+const SAMPLE_EVERY: u64 = 30;
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct SwarmConfig {
+    /// Robots in the arena.
+    pub robots: usize,
+    /// Simulated minutes per trial.
+    pub minutes: f64,
+    /// Controllers compared (one trial each).
+    pub controllers: Vec<Kind>,
+    /// Seed of the start poses, the noise and the controllers.
+    pub seed: u64,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Wall texture specification.
+    pub background: String,
+}
+
+impl Default for SwarmConfig {
+    /// The paper's six robots, 5 simulated minutes, swarm against escape.
+    fn default() -> Self {
+        SwarmConfig {
+            robots: 6,
+            minutes: 5.0,
+            controllers: vec![Kind::Swarm, Kind::Alvs],
+            seed: 1,
+            params: Params::default(),
+            background: "clutter:1".into(),
+        }
+    }
+}
+
+impl SwarmConfig {
+    /// Camera frames per trial.
+    pub fn frames(&self) -> u64 {
+        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+    }
+
+    /// Camera frames of the whole run (for a progress bar).
+    pub fn total_frames(&self) -> u64 {
+        self.frames() * self.controllers.len() as u64
+    }
+
+    fn check(&self) -> Result<crate::arena::WallTexture> {
+        ensure!(
+            (2..=30).contains(&self.robots),
+            "--robots must be 2..=30 for a swarm, got {}",
+            self.robots
+        );
+        ensure!(
+            self.minutes.is_finite() && self.minutes > 0.0 && self.minutes <= 1000.0,
+            "--minutes must be a positive number up to 1000, got {}",
+            self.minutes
+        );
+        ensure!(!self.controllers.is_empty(), "no controller to run");
+        self.params
+            .validate()
+            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::texture(&self.background)
+    }
+}
+
+/// One trial's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SwarmTrial {
+    /// "swarm", "alvs", "lgmd2".
+    pub controller: &'static str,
+    /// Robots.
+    pub robots: usize,
+    /// Simulated minutes.
+    pub minutes: f64,
+    /// Spread (RMS distance from the centroid), mm, once per second from t = 0.
+    pub spread_mm: Vec<f64>,
+    /// Mean nearest-neighbour distance, mm, once per second from t = 0.
+    pub nearest_mm: Vec<f64>,
+    /// Spread at the start, mm.
+    pub spread_start_mm: f64,
+    /// Mean spread over the first minute, mm.
+    pub spread_first_minute_mm: f64,
+    /// Mean spread over the last minute, mm.
+    pub spread_last_minute_mm: f64,
+    /// Mean nearest-neighbour distance over the first minute, mm.
+    pub nearest_first_minute_mm: f64,
+    /// Mean nearest-neighbour distance over the last minute, mm.
+    pub nearest_last_minute_mm: f64,
+    /// Robot–robot collision episodes per simulated minute.
+    pub robot_collisions_per_minute: f64,
+    /// Fraction of robot-frames in each state.
+    pub state_fraction: BTreeMap<String, f64>,
+    /// Positions, five per second, mm.
+    pub trails: Vec<Vec<[f64; 2]>>,
+    /// Wall-clock seconds.
+    pub wall_clock_s: f64,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct SwarmReport {
+    /// What ran.
+    pub config: SwarmConfig,
+    /// One per controller.
+    pub trials: Vec<SwarmTrial>,
+    /// Wall-clock seconds.
+    pub wall_clock_s: f64,
+}
+
+/// Spread (RMS distance from the centroid) and mean nearest-neighbour distance of `points`.
+pub fn spread(points: &[(f64, f64)]) -> (f64, f64) {
+    let n = points.len().max(1) as f64;
+    let (cx, cy) = points
+        .iter()
+        .fold((0.0, 0.0), |(x, y), p| (x + p.0 / n, y + p.1 / n));
+    let rms = (points
+        .iter()
+        .map(|p| (p.0 - cx).powi(2) + (p.1 - cy).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let nearest = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, q)| (p.0 - q.0).hypot(p.1 - q.1))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .filter(|d| d.is_finite())
+        .sum::<f64>()
+        / n;
+    (rms, nearest)
+}
+
+/// Runs one trial per controller on `jobs` threads (0 = all cores).
+pub fn run(
+    config: &SwarmConfig,
+    jobs: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<SwarmReport> {
+    let texture = config.check()?;
+    let arena = World::default().arena;
+    let starts = start_poses(&arena, config.robots, config.seed)?;
+    let t0 = std::time::Instant::now();
+    let trials = parallel::map(config.controllers.len(), jobs, |c| {
+        let t = std::time::Instant::now();
+        let kind = config.controllers[c];
+        let world = World::with_texture(texture.clone());
+        let mut sim = Sim::new(&world, config.seed);
+        let root = Rng::new(config.seed).fork(CONTROLLER_STREAM);
+        for (i, p) in starts.iter().enumerate() {
+            sim.add(
+                *p,
+                kind.make(config.params, root.fork(i as u64).next_u64()),
+                MotorParams::default(),
+                GyroParams::default(),
+                SensorNoise::typical(),
+            );
+        }
+        let points = |sim: &Sim| -> Vec<(f64, f64)> {
+            sim.physics
+                .poses()
+                .iter()
+                .map(|p| (p.x_mm, p.y_mm))
+                .collect()
+        };
+        let (s0, n0) = spread(&points(&sim));
+        let (s0, n0) = (round1(s0), round1(n0));
+        let (mut spreads, mut nearest) = (vec![s0], vec![n0]);
+        let mut trails: Vec<Vec<[f64; 2]>> =
+            starts.iter().map(|p| vec![[p.x_mm, p.y_mm]]).collect();
+        let frames = config.frames();
+        for f in 1..=frames {
+            sim.step();
+            if f % SAMPLE_EVERY == 0 {
+                let (s, n) = spread(&points(&sim));
+                spreads.push(round1(s));
+                nearest.push(round1(n));
+                progress(SAMPLE_EVERY);
+            }
+            if f % TRAIL_EVERY == 0 {
+                for (tr, p) in trails.iter_mut().zip(sim.physics.poses()) {
+                    tr.push([round1(p.x_mm), round1(p.y_mm)]);
+                }
+            }
+        }
+        progress(frames % SAMPLE_EVERY);
+        let minutes = frames as f64 * FRAME_DT_S / 60.0;
+        let window = 60.min(spreads.len());
+        let head = |v: &[f64]| v[..window].iter().sum::<f64>() / window as f64;
+        let tail = |v: &[f64]| v[v.len() - window..].iter().sum::<f64>() / window as f64;
+        let mut states: BTreeMap<String, u64> = BTreeMap::new();
+        for robot in sim.state_frames() {
+            for (s, n) in robot {
+                *states.entry((*s).to_string()).or_insert(0) += n;
+            }
+        }
+        let total: u64 = states.values().sum::<u64>().max(1);
+        SwarmTrial {
+            controller: kind.name(),
+            robots: config.robots,
+            minutes,
+            spread_start_mm: round1(s0),
+            spread_first_minute_mm: round1(head(&spreads)),
+            spread_last_minute_mm: round1(tail(&spreads)),
+            nearest_first_minute_mm: round1(head(&nearest)),
+            nearest_last_minute_mm: round1(tail(&nearest)),
+            robot_collisions_per_minute: sim.physics.counts().robot_robot.collisions as f64
+                / minutes,
+            state_fraction: states
+                .iter()
+                .map(|(s, &n)| (s.clone(), n as f64 / total as f64))
+                .collect(),
+            spread_mm: spreads,
+            nearest_mm: nearest,
+            trails,
+            wall_clock_s: t.elapsed().as_secs_f64(),
+        }
+    });
+    Ok(SwarmReport {
+        config: config.clone(),
+        trials,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+fn round1(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+impl SwarmReport {
+    /// `{"swarm":{...},"alvs":{...}}`: one key per controller.
+    pub fn json(&self) -> serde_json::Value {
+        let mut map = serde_json::Map::new();
+        for t in &self.trials {
+            map.insert(
+                t.controller.to_string(),
+                serde_json::to_value(t).expect("trials serialise"),
+            );
+        }
+        let c = &self.config;
+        map.insert(
+            "config".into(),
+            serde_json::json!({"robots": c.robots, "minutes": c.minutes, "seed": c.seed,
+                               "background": c.background}),
+        );
+        serde_json::Value::Object(map)
+    }
+
+    /// One line per controller.
+    pub fn table(&self) -> String {
+        use std::fmt::Write;
+        let c = &self.config;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "swarm: {} robots, {} min, background {}, seed {}, {:.1} s",
+            c.robots, c.minutes, c.background, c.seed, self.wall_clock_s
+        );
+        let _ = writeln!(
+            out,
+            "{:<8} {:>12} {:>12} {:>12} {:>12} {:>12} {:>9} {:>7}",
+            "ctrl",
+            "spread t=0",
+            "1st min",
+            "last min",
+            "nn 1st min",
+            "nn last min",
+            "rr/min",
+            "spin %"
+        );
+        for t in &self.trials {
+            let _ = writeln!(
+                out,
+                "{:<8} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>9.2} {:>7.1}",
+                t.controller,
+                t.spread_start_mm,
+                t.spread_first_minute_mm,
+                t.spread_last_minute_mm,
+                t.nearest_first_minute_mm,
+                t.nearest_last_minute_mm,
+                t.robot_collisions_per_minute,
+                100.0 * t.state_fraction.get("spin").copied().unwrap_or(0.0)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "(spread: RMS distance from the group's centroid, mm; nn: mean nearest-neighbour distance, mm)"
+        );
+        out
+    }
+
+    /// `swarm_spread.png` (spread and nearest-neighbour distance over time per controller)
+    /// and `swarm_<controller>.png` (trails) in `dir`.
+    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let mut plot = Plot::new(&format!(
+            "{} robots: spread (RMS distance from the centroid) and nearest neighbour, mm",
+            self.config.robots
+        ))
+        .x_label("simulated seconds");
+        for t in &self.trials {
+            let s: Vec<f32> = t.spread_mm.iter().map(|&v| v as f32).collect();
+            let n: Vec<f32> = t.nearest_mm.iter().map(|&v| v as f32).collect();
+            plot = plot
+                .series(&format!("{} spread", t.controller), &s)
+                .series(&format!("{} nearest", t.controller), &n);
+        }
+        let mut paths = Vec::new();
+        let path = dir.join("swarm_spread.png");
+        plot.render(900, 450)
+            .save_png(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        paths.push(path);
+        for t in &self.trials {
+            let arena = World::default().arena;
+            let mut td = TopDown::new(&arena, 0.5);
+            td.title(&format!(
+                "{}: {} robots, {:.1} min; spread {:.0} mm at the start, {:.0} mm over the last minute",
+                t.controller.to_uppercase(),
+                t.robots,
+                t.minutes,
+                t.spread_start_mm,
+                t.spread_last_minute_mm
+            ));
+            for (i, tr) in t.trails.iter().enumerate() {
+                let pts: Vec<(f64, f64)> = tr.iter().map(|p| (p[0], p[1])).collect();
+                td.trail(&pts, colour_cycle(i));
+                if let Some(e) = pts.last() {
+                    td.robot(&crate::arena::Pose::new(e.0, e.1, 0.0), colour_cycle(i));
+                }
+            }
+            let c = td.into_canvas();
+            let path = dir.join(format!("swarm_{}.png", t.controller));
+            c.save_png(&path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            paths.push(path);
+        }
+        Ok(paths)
+    }
+}

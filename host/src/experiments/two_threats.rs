@@ -1,0 +1,382 @@
+//! Experiment 3, `two-threats` (paper Sec. III-B, Fig. 4b): two obstacle robots approach the
+//! standing tested robot at the same time from opposite sides of its view at unequal constant
+//! speeds; over many runs, how often does it evade away from the faster one?
+//!
+//! Run `r` draws from the seed's stream `r`: which side the faster obstacle comes from (left or
+//! right, equally likely), each obstacle's bearing (uniform 10°..35° on its side, so both are in
+//! view and on different sides) and start distance (uniform 450..550 mm). The faster obstacle
+//! drives at [`TwoThreatConfig::fast_mm_s`], the slower at [`TwoThreatConfig::slow_mm_s`].
+//!
+//! A run **evades away from the faster** when the tested robot's escape turn goes to the side
+//! away from the faster obstacle ([`super::encounter`]: its heading change over its first
+//! takeoff, beyond 5°). The paper's robot
+//! "identified the faster of the two incoming robots as the more imminent threat and executed
+//! an evasion maneuver opposite to its approach".
+
+use std::path::{Path, PathBuf};
+
+use alvs_tasks::Params;
+use anyhow::{ensure, Context, Result};
+use serde::Serialize;
+
+use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
+use super::parallel;
+use crate::arena::{Kind, Rng, TopDown, World};
+use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+
+/// Random stream of the runs' geometry.
+const GEOMETRY_STREAM: u64 = 0x0002_7417;
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct TwoThreatConfig {
+    /// Runs per controller.
+    pub runs: usize,
+    /// Speed of the faster obstacle, mm/s.
+    pub fast_mm_s: f64,
+    /// Speed of the slower obstacle, mm/s.
+    pub slow_mm_s: f64,
+    /// Controllers of the tested robot.
+    pub controllers: Vec<Kind>,
+    /// Seed of the geometry, the noise and LGMD2's turns.
+    pub seed: u64,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Wall texture specification.
+    pub background: String,
+}
+
+impl Default for TwoThreatConfig {
+    fn default() -> Self {
+        TwoThreatConfig {
+            runs: 20,
+            fast_mm_s: 200.0,
+            slow_mm_s: 100.0,
+            controllers: vec![Kind::Alvs, Kind::Lgmd2],
+            seed: 1,
+            params: Params::default(),
+            background: "clutter:1".into(),
+        }
+    }
+}
+
+/// The geometry of one run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Pair {
+    /// The faster obstacle.
+    pub fast: ThreatJson,
+    /// The slower obstacle.
+    pub slow: ThreatJson,
+}
+
+/// An obstacle for JSON.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ThreatJson {
+    /// Bearing, degrees, positive = right.
+    pub bearing_deg: f64,
+    /// Start distance, mm.
+    pub distance_mm: f64,
+    /// Speed, mm/s.
+    pub speed_mm_s: f64,
+}
+
+impl From<ThreatJson> for Threat {
+    fn from(t: ThreatJson) -> Threat {
+        Threat {
+            bearing_deg: t.bearing_deg,
+            distance_mm: t.distance_mm,
+            speed_mm_s: t.speed_mm_s,
+        }
+    }
+}
+
+impl TwoThreatConfig {
+    /// Checks the configuration and reads the background (one error line).
+    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
+        ensure!(
+            (1..=100_000).contains(&self.runs),
+            "--runs must be 1..=100000, got {}",
+            self.runs
+        );
+        for (name, v) in [("--fast", self.fast_mm_s), ("--slow", self.slow_mm_s)] {
+            ensure!(
+                v.is_finite() && (10.0..=400.0).contains(&v),
+                "{name} must be 10..=400 mm/s, got {v}"
+            );
+        }
+        ensure!(
+            self.fast_mm_s > self.slow_mm_s,
+            "--fast ({}) must be faster than --slow ({})",
+            self.fast_mm_s,
+            self.slow_mm_s
+        );
+        ensure!(!self.controllers.is_empty(), "no controller to run");
+        self.params
+            .validate()
+            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::texture(&self.background)
+    }
+
+    /// The geometry of run `r`.
+    pub fn pair(&self, r: usize) -> Pair {
+        let mut rng = Rng::new(self.seed).fork(GEOMETRY_STREAM).fork(r as u64);
+        let fast_side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+        let mut draw = |side: f64, speed: f64| {
+            let b = rng.range(10.0, 35.0);
+            let d = rng.range(450.0, 550.0);
+            ThreatJson {
+                bearing_deg: (side * b * 100.0).round() / 100.0,
+                distance_mm: d.round(),
+                speed_mm_s: speed,
+            }
+        };
+        let fast = draw(fast_side, self.fast_mm_s);
+        let slow = draw(-fast_side, self.slow_mm_s);
+        Pair { fast, slow }
+    }
+
+    /// Camera frames of the whole run, approximately (for a progress bar).
+    pub fn total_frames(&self) -> u64 {
+        (0..self.runs)
+            .map(|r| {
+                let p = self.pair(r);
+                encounter::frames_of(&[p.fast.into(), p.slow.into()])
+            })
+            .sum::<u64>()
+            * self.controllers.len() as u64
+    }
+}
+
+/// One run's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunOutcome {
+    /// The geometry.
+    pub threats: Pair,
+    /// The side the robot turned to.
+    pub side: Side,
+    /// Turned to the side away from the faster obstacle.
+    pub away_from_faster: bool,
+    /// Collided with the faster obstacle.
+    pub collided_fast: bool,
+    /// Collided with the slower obstacle.
+    pub collided_slow: bool,
+    /// First alert, s; `null` without one.
+    pub first_alert_s: Option<f64>,
+    /// Tested robot's positions, 10 per second, mm.
+    pub trail: Vec<[f64; 2]>,
+}
+
+impl RunOutcome {
+    fn new(threats: Pair, r: &EncounterResult) -> Self {
+        let side = r.side();
+        RunOutcome {
+            threats,
+            side,
+            away_from_faster: side == Side::away_from(threats.fast.bearing_deg),
+            collided_fast: r.collided_with[0],
+            collided_slow: r.collided_with[1],
+            first_alert_s: r.first_alert_s.map(|s| (s * 1000.0).round() / 1000.0),
+            trail: r.trails[0]
+                .iter()
+                .map(|&(x, y)| [(x * 10.0).round() / 10.0, (y * 10.0).round() / 10.0])
+                .collect(),
+        }
+    }
+}
+
+/// One controller's runs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControllerTwoThreats {
+    /// "alvs", "lgmd2", "swarm".
+    pub controller: &'static str,
+    /// Runs.
+    pub runs: usize,
+    /// Runs that turned away from the faster obstacle.
+    pub away_from_faster: usize,
+    /// `away_from_faster / runs`.
+    pub fraction: f64,
+    /// Runs that turned away from the slower obstacle, i.e. towards the faster one's side.
+    pub towards_faster: usize,
+    /// Runs with a collision (either obstacle).
+    pub collisions: usize,
+    /// Per run.
+    pub per_run: Vec<RunOutcome>,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct TwoThreatReport {
+    /// What ran.
+    pub config: TwoThreatConfig,
+    /// One per controller.
+    pub controllers: Vec<ControllerTwoThreats>,
+    /// Wall-clock seconds.
+    pub wall_clock_s: f64,
+}
+
+/// Runs every (controller, run) trial on `jobs` threads (0 = all cores).
+pub fn run(
+    config: &TwoThreatConfig,
+    jobs: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<TwoThreatReport> {
+    let texture = config.validate()?;
+    let t0 = std::time::Instant::now();
+    let n = config.runs;
+    let kinds = &config.controllers;
+    let results = parallel::map(kinds.len() * n, jobs, |i| {
+        let (kind, r) = (kinds[i / n], i % n);
+        let pair = config.pair(r);
+        let e = Encounter {
+            kind,
+            threats: vec![pair.fast.into(), pair.slow.into()],
+            // every controller meets the same noise in run r
+            seed: Rng::new(config.seed).fork(r as u64).next_u64(),
+            params: config.params,
+            texture: texture.clone(),
+            noise: true,
+        };
+        RunOutcome::new(pair, &encounter::run(&e, progress))
+    });
+    let controllers = kinds
+        .iter()
+        .enumerate()
+        .map(|(c, &kind)| {
+            let per_run: Vec<RunOutcome> = results[c * n..(c + 1) * n].to_vec();
+            let away = per_run.iter().filter(|o| o.away_from_faster).count();
+            ControllerTwoThreats {
+                controller: kind.name(),
+                runs: n,
+                away_from_faster: away,
+                fraction: away as f64 / n as f64,
+                towards_faster: per_run
+                    .iter()
+                    .filter(|o| o.side == Side::away_from(o.threats.slow.bearing_deg))
+                    .count(),
+                collisions: per_run
+                    .iter()
+                    .filter(|o| o.collided_fast || o.collided_slow)
+                    .count(),
+                per_run,
+            }
+        })
+        .collect();
+    Ok(TwoThreatReport {
+        config: config.clone(),
+        controllers,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+impl TwoThreatReport {
+    /// `{"alvs":{"runs":..,"away_from_faster":..,"fraction":..,...},"lgmd2":{...}}`.
+    pub fn json(&self) -> serde_json::Value {
+        let mut map = serde_json::Map::new();
+        for c in &self.controllers {
+            map.insert(
+                c.controller.to_string(),
+                serde_json::to_value(c).expect("outcomes serialise"),
+            );
+        }
+        let cfg = &self.config;
+        map.insert(
+            "config".into(),
+            serde_json::json!({
+                "runs": cfg.runs,
+                "fast_mm_s": cfg.fast_mm_s,
+                "slow_mm_s": cfg.slow_mm_s,
+                "seed": cfg.seed,
+                "background": cfg.background,
+            }),
+        );
+        serde_json::Value::Object(map)
+    }
+
+    /// One line per controller.
+    pub fn table(&self) -> String {
+        use std::fmt::Write;
+        let c = &self.config;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "two-threats: {} runs, faster {} mm/s vs slower {} mm/s from opposite sides, background {}, seed {}, {:.1} s",
+            c.runs, c.fast_mm_s, c.slow_mm_s, c.background, c.seed, self.wall_clock_s
+        );
+        let _ = writeln!(
+            out,
+            "{:<8} {:>6} {:>18} {:>16} {:>11}",
+            "ctrl", "runs", "away from faster", "towards faster", "collisions"
+        );
+        for ce in &self.controllers {
+            let _ = writeln!(
+                out,
+                "{:<8} {:>6} {:>11} ({:>3.0} %) {:>16} {:>11}",
+                ce.controller,
+                ce.runs,
+                ce.away_from_faster,
+                100.0 * ce.fraction,
+                ce.towards_faster,
+                ce.collisions
+            );
+        }
+        out
+    }
+
+    /// `two_threats.png` in `dir`: per controller, the tested robot's paths of the first runs
+    /// (up to 12), green when it turned away from the faster obstacle, red otherwise.
+    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
+        let w: usize = panels.iter().map(|p| p.width).sum();
+        let h = panels.iter().map(|p| p.height).max().unwrap_or(1);
+        let mut c = Canvas::new(w.max(1), h, WHITE);
+        let mut x = 0;
+        for p in &panels {
+            c.blit(p, x, 0);
+            x += p.width as i32;
+        }
+        let path = dir.join("two_threats.png");
+        c.save_png(&path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(vec![path])
+    }
+}
+
+const GOOD: Rgb = [30, 150, 60];
+const BAD: Rgb = [210, 40, 40];
+const FAST: Rgb = [40, 90, 200];
+const SLOW: Rgb = [160, 160, 160];
+
+fn panel(ce: &ControllerTwoThreats) -> Canvas {
+    let arena = World::default().arena;
+    let mut td = TopDown::new(&arena, 0.6);
+    td.title(&format!(
+        "{}: away from the faster in {}/{} runs ({:.0} %), {} with a collision",
+        ce.controller.to_uppercase(),
+        ce.away_from_faster,
+        ce.runs,
+        100.0 * ce.fraction,
+        ce.collisions
+    ));
+    let start = encounter::tested_start();
+    for o in ce.per_run.iter().take(12) {
+        for (t, colour) in [(o.threats.fast, FAST), (o.threats.slow, SLOW)] {
+            let p = Threat::from(t).start_pose(&start);
+            td.trail(&[(p.x_mm, p.y_mm), (start.x_mm, start.y_mm)], colour);
+            td.mark(p.x_mm, p.y_mm, colour);
+        }
+    }
+    for o in ce.per_run.iter().take(12) {
+        let pts: Vec<(f64, f64)> = o.trail.iter().map(|p| (p[0], p[1])).collect();
+        td.trail(&pts, if o.away_from_faster { GOOD } else { BAD });
+    }
+    td.robot(&start, colour_cycle(0));
+    let pic = td.into_canvas();
+    let legend = "blue: faster obstacle's path, grey: slower; tested robot's path green when it \
+                  turned away from the faster, red otherwise (first 12 runs)";
+    let (lw, lh) = Canvas::text_size(legend, 1);
+    let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
+    c.blit(&pic, 0, 0);
+    c.text(8, pic.height as i32 + 2, legend, BLACK, 1);
+    c
+}

@@ -1,0 +1,246 @@
+//! The paper's experiments 1, 2, 3 and 5 (`alvs stimuli`, `evasion`, `two-threats`, `swarm`)
+//! on short runs: their headline results as assertions with margins, determinism by seed
+//! whatever the number of threads, the documented JSON, and a command line that helps and
+//! fails cleanly. (Experiment 4, `arena`, is `arena_experiment.rs`.)
+
+use std::process::Command;
+
+use alvs_host::arena::Kind;
+use alvs_host::experiments::encounter::Side;
+use alvs_host::experiments::evasion::{self, EvasionConfig};
+use alvs_host::experiments::stimuli::{self, StimuliConfig};
+use alvs_host::experiments::swarm::{self, SwarmConfig};
+use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
+
+fn alvs_only() -> Vec<Kind> {
+    vec![Kind::Alvs]
+}
+
+/// Paper Fig. 4d: "regardless of the approach angle, [ALVS] consistently selected the correct
+/// escape direction". Every bearing alerts and turns away from the obstacle's side (dead
+/// ahead: turns round). The JSON has the shape the issue asks for.
+#[test]
+fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
+    let config = EvasionConfig {
+        controllers: alvs_only(),
+        ..EvasionConfig::default()
+    };
+    let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+    let a = &r.controllers[0];
+    let table = r.table();
+    assert_eq!(a.angles, 9);
+    assert_eq!(a.alerted, 9, "{table}");
+    assert_eq!(a.correct_side, 9, "{table}");
+    let bearings: Vec<f64> = a.per_angle.iter().map(|o| o.angle_deg).collect();
+    assert_eq!(bearings.first(), Some(&-35.0));
+    assert_eq!(bearings.last(), Some(&35.0));
+    assert_eq!(bearings[4], 0.0);
+    for o in &a.per_angle {
+        // a real escape turn, not a twitch: a long takeoff turns ~180° minus the bearing
+        assert!(o.escape_turn_deg.abs() > 90.0, "{table}");
+        if o.angle_deg > 0.0 {
+            assert_eq!(o.side, Side::Left, "{table}");
+        }
+    }
+    let json = r.json();
+    assert_eq!(json["alvs"]["angles"], 9);
+    assert_eq!(json["alvs"]["correct_side"], 9);
+    assert!(json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 9));
+}
+
+/// Paper Fig. 4b: ALVS takes the faster of two simultaneous threats for the more imminent one
+/// and evades away from it. LGMD2, which has no direction, serves as the chance level.
+#[test]
+fn the_faster_of_two_threats_wins() {
+    let config = TwoThreatConfig {
+        runs: 8,
+        controllers: vec![Kind::Alvs, Kind::Lgmd2],
+        ..TwoThreatConfig::default()
+    };
+    let r = two_threats::run(&config, 2, &|_| {}).expect("a valid configuration");
+    let (alvs, lgmd2) = (&r.controllers[0], &r.controllers[1]);
+    let table = r.table();
+    assert_eq!(alvs.runs, 8);
+    assert!(alvs.away_from_faster >= 7, "{table}");
+    assert!(alvs.away_from_faster > lgmd2.away_from_faster, "{table}");
+    for o in &alvs.per_run {
+        // the geometry: opposite sides, the faster really faster
+        assert!(o.threats.fast.bearing_deg * o.threats.slow.bearing_deg < 0.0);
+        assert!(o.threats.fast.speed_mm_s > o.threats.slow.speed_mm_s);
+    }
+    assert_eq!(
+        r.json()["alvs"]["fraction"].as_f64(),
+        Some(alvs.away_from_faster as f64 / 8.0)
+    );
+}
+
+/// Evasion and two-threats are pure functions of their configuration: the same numbers on one
+/// thread or two, twice; another seed changes the noise.
+#[test]
+fn encounters_are_deterministic_by_seed_whatever_the_threads() {
+    let config = TwoThreatConfig {
+        runs: 3,
+        ..TwoThreatConfig::default()
+    };
+    let a = two_threats::run(&config, 1, &|_| {}).unwrap().json();
+    let b = two_threats::run(&config, 2, &|_| {}).unwrap().json();
+    assert_eq!(a, b);
+    let other = TwoThreatConfig {
+        seed: 2,
+        ..config.clone()
+    };
+    let c = two_threats::run(&other, 2, &|_| {}).unwrap().json();
+    assert_ne!(a["alvs"]["per_run"], c["alvs"]["per_run"]);
+}
+
+/// Paper Fig. 3: approaching robots alert the standing robot and get an attention field each
+/// (two at once for the double approach); a receding robot does not alert.
+#[test]
+fn stimuli_tell_approach_from_recession_and_count_the_objects() {
+    let r = stimuli::run(&StimuliConfig::default(), 2).expect("a valid configuration");
+    let table = r.table();
+    let scene = |n: &str| r.scenes.iter().find(|s| s.name == n).expect(n);
+    assert_eq!(r.scenes.len(), 5);
+    assert_eq!(scene("recede").alert_frames, 0, "{table}");
+    for n in ["approach", "double", "triple"] {
+        assert!(scene(n).alert_frames > 0, "{n}: {table}");
+        assert!(scene(n).localised >= 1, "{n}: {table}");
+    }
+    let double = scene("double");
+    assert!(double.max_afs >= 2, "{table}");
+    assert_eq!(double.localised, 2, "{table}");
+    // the approach alerts before the obstacle stops (frame 120), i.e. before contact
+    assert!(scene("approach").first_alert_frame.is_some_and(|f| f < 120));
+    let json = r.json();
+    assert_eq!(json["scenes"].as_array().map(Vec::len), Some(5));
+}
+
+/// Swarm mode spins and never escapes; escape mode never spins; spreads are distances.
+#[test]
+fn swarm_robots_spin_and_escaping_robots_do_not() {
+    let config = SwarmConfig {
+        minutes: 0.25,
+        ..SwarmConfig::default()
+    };
+    let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
+    let (sw, esc) = (&r.trials[0], &r.trials[1]);
+    assert_eq!((sw.controller, esc.controller), ("swarm", "alvs"));
+    assert!(sw.state_fraction.get("spin").copied().unwrap_or(0.0) > 0.0);
+    assert!(!sw.state_fraction.contains_key("escape"));
+    assert!(!esc.state_fraction.contains_key("spin"));
+    for t in &r.trials {
+        assert_eq!(t.spread_mm.len(), 16); // t = 0 and once per second for 15 s
+        assert_eq!(t.spread_mm[0], t.spread_start_mm);
+        assert!(t.spread_mm.iter().all(|s| (0.0..1500.0).contains(s)));
+        // six robots keep at least a body apart (centre distances)
+        assert!(t.nearest_mm.iter().all(|n| *n >= 40.0));
+    }
+    // both start from the same poses
+    assert_eq!(sw.trails[0][0], esc.trails[0][0]);
+    let (a, b) = (swarm::spread(&[(0.0, 0.0), (6.0, 8.0)]), (5.0, 10.0));
+    assert_eq!(a, b);
+}
+
+fn alvs() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_alvs"))
+}
+
+#[test]
+fn cli_runs_an_experiment_and_writes_json_and_pictures() {
+    let dir = std::env::temp_dir().join(format!("alvs-exp-cli-{}", std::process::id()));
+    let json = dir.join("ev.json");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = alvs()
+        .args(["evasion", "--controller", "alvs", "--jobs", "2", "--json"])
+        .arg(&json)
+        .arg("--png")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(v["alvs"]["angles"], 9);
+    assert!(dir.join("evasion.png").exists());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("correct side"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_helps_and_fails_cleanly() {
+    for cmd in ["stimuli", "evasion", "two-threats", "swarm"] {
+        let out = alvs().args([cmd, "--help"]).output().unwrap();
+        assert!(out.status.success(), "{cmd}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("--seed"),
+            "{cmd}"
+        );
+    }
+    for args in [
+        &["evasion", "--background", "nonsense:3"][..],
+        &["two-threats", "--fast", "50", "--slow", "100"],
+        &["swarm", "--robots", "1"],
+        &["evasion", "--speed", "-3"],
+        &["stimuli", "--jobs", "0"],
+    ] {
+        let out = alvs().args(args).output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("alvs: error:"), "{args:?}: {err}");
+    }
+}
+
+/// Experiment 4 on two simulated minutes (the issue's "a 2-minute arena's counts are
+/// consistent"): every count is an episode count of the documented kind, the per-kind counts
+/// add up, each collision is a recorded event inside the trial, and the robots meet something.
+#[test]
+fn a_two_minute_arena_has_consistent_counts() {
+    use alvs_host::experiments::arena::{self, ArenaConfig};
+    let config = ArenaConfig {
+        minutes: 2.0,
+        backgrounds: vec!["clutter:1".into()],
+        controllers: alvs_only(),
+        seed: 5,
+        ..ArenaConfig::default()
+    };
+    let r = arena::run(&config, 1, &|_| {}).expect("a valid configuration");
+    let t = &r.trials[0];
+    let table = r.table();
+    assert_eq!(t.frames, 3600);
+    assert!(t.encounters >= 5, "{table}");
+    for k in [&t.robot_robot, &t.robot_wall] {
+        assert!(k.collided_encounters <= k.encounters, "{table}");
+        assert!(k.collisions >= k.collided_encounters, "{table}");
+    }
+    assert_eq!(
+        t.encounters,
+        t.robot_robot.encounters + t.robot_wall.encounters
+    );
+    assert_eq!(
+        t.collided_encounters,
+        t.robot_robot.collided_encounters + t.robot_wall.collided_encounters
+    );
+    let successes = t.encounters - t.collided_encounters;
+    assert_eq!(
+        t.success_rate,
+        Some(successes as f64 / t.encounters as f64),
+        "{table}"
+    );
+    assert_eq!(t.collision_events.len() as u64, t.collisions);
+    let wall_events = t
+        .collision_events
+        .iter()
+        .filter(|e| e.other_robot.is_none())
+        .count() as u64;
+    assert_eq!(wall_events, t.robot_wall.collisions);
+    assert!(t
+        .collision_events
+        .iter()
+        .all(|e| (0.0..=120.0).contains(&e.time_s) && e.other_robot.is_none_or(|o| o > e.robot)));
+    let frames: u64 = t.state_frames.values().sum();
+    assert_eq!(frames, 3 * 3600);
+}
