@@ -53,10 +53,12 @@ enum Cmd {
     /// With no option: 3 robots, 10 minutes, backgrounds clutter:1, stripes:40 and checker:60,
     /// controllers alvs and lgmd2, seed 1; a table on stdout, pictures in out/arena.
     Arena(ArenaArgs),
-    /// The firmware's frame budget on the Cortex-M4 cycle model: builds the firmware, times its
-    /// perception + control step on worst cases and clips, prints the table; `--json` for
-    /// tooling. Runs `alvs-budget` of the crate alvs-cycles, which needs cmake and libclang-dev
-    /// (./test.sh installs them); `cargo alvs budget --help` lists its options.
+    /// The firmware's frame budget on the Cortex-M4 cycle model: cycles per stage, RAM.
+    ///
+    /// Builds the firmware, times its perception + control step on worst cases and clips,
+    /// prints the table; `--json` for tooling. Runs `alvs-budget` of the crate alvs-cycles,
+    /// which needs cmake and libclang-dev (./test.sh installs them); `cargo alvs budget --help`
+    /// lists its options.
     #[command(disable_help_flag = true)]
     Budget {
         /// Options of alvs-budget (e.g. --json, --all-clips, --write-doc docs/budget.md).
