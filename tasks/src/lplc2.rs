@@ -308,14 +308,15 @@ fn lm(own_d: u32, own_n: u32, sn: u32, sd: u32, shift: u32) -> u32 {
     (pre >> shift).max(0) as u32
 }
 
-/// `[Σ LM_r, Σ LM_l, Σ LM_v]` over the columns `s..e` of the row (`H`: with the horizontal
-/// directions; else only `v`, the direction of `vn`/`vd`), `N` connected neurons.
+/// `[Σ LM_r, Σ LM_l, Σ LM_v]` over the columns `s..e` of the row, `N` connected neurons: `v`
+/// (the direction of `vn`/`vd`) always, `r` if `R`, `l` if `L` (0 for a direction not asked:
+/// a segment right of every field's centroid needs no `l`, Eq. 8).
 ///
 /// Horizontal neighbour sums are running windows in registers:
 /// `R(x) = Σ_{c=1..N} P(x + c)`, `R(x+1) = R(x) + P(x+1+N) − P(x+1)`;
 /// `L(x) = Σ_{c=1..N} P(x − c)`, `L(x+1) = L(x) + P(x) − P(x−N)` (zeros off the retina).
 #[inline(always)]
-fn seg<const H: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3] {
+fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3] {
     // P(x) sits at index x + PAD; the windows span P(x − N ..= x + N + 1)
     let (i0, i1) = (s + PAD - N, e + PAD + N + 1);
     let (now, del) = (&r.now[i0..i1], &r.del[i0..i1]);
@@ -335,11 +336,13 @@ fn seg<const H: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3
         let own_d = pack(a * lo(pd), b * hi(pd));
         let own_n = pack(-a * lo(pn), -b * hi(pn));
         sv = sv.wrapping_add(lm(own_d, own_n, vn, vd, shift));
-        if H {
+        if R {
             sr = sr.wrapping_add(lm(own_d, own_n, rn, rd, shift));
-            sl = sl.wrapping_add(lm(own_d, own_n, ln, ld, shift));
             rn = rn.wrapping_add(wn[2 * N + 1]).wrapping_sub(wn[N + 1]);
             rd = rd.wrapping_add(wd[2 * N + 1]).wrapping_sub(wd[N + 1]);
+        }
+        if L {
+            sl = sl.wrapping_add(lm(own_d, own_n, ln, ld, shift));
             ln = ln.wrapping_add(wn[N]).wrapping_sub(wn[0]);
             ld = ld.wrapping_add(wd[N]).wrapping_sub(wd[0]);
         }
@@ -349,7 +352,7 @@ fn seg<const H: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3
 
 /// [`seg`] for the row's `n`.
 #[inline(always)]
-fn seg_n<const H: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
+fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
     if (n, r.a, r.b, r.shift) == (3, 1, 16, 8) {
         // Table I (`t4_q16 = 2^16`, `t5_q16 = 2^20`, `shift = 24`): constants free registers
         let paper = RowCtx {
@@ -358,13 +361,13 @@ fn seg_n<const H: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
             shift: 8,
             ..*r
         };
-        return seg::<H, 3>(&paper, s, e);
+        return seg::<R, L, 3>(&paper, s, e);
     }
     match n {
-        1 => seg::<H, 1>(r, s, e),
-        2 => seg::<H, 2>(r, s, e),
-        3 => seg::<H, 3>(r, s, e),
-        _ => seg::<H, 4>(r, s, e),
+        1 => seg::<R, L, 1>(r, s, e),
+        2 => seg::<R, L, 2>(r, s, e),
+        3 => seg::<R, L, 3>(r, s, e),
+        _ => seg::<R, L, 4>(r, s, e),
     }
 }
 
@@ -438,14 +441,16 @@ pub fn integrate_rows(
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
     for y in y_lo..y_hi {
         // the segments some field needs on this row, and the vertical directions
-        let mut need = [false; MAX_BP];
+        // bit 0: r, bit 1: l (left of some field's centroid)
+        let mut need = [0u8; MAX_BP];
         let (mut up, mut down) = (false, false);
         let (mut ua, mut ub) = (WIDTH, 0);
         for &(y0, y1, cy, c) in fields {
             if (y0..y1).contains(&y) && y != cy {
                 up |= y < cy;
                 down |= y > cy;
-                need[c[0]..c[3]].fill(true);
+                need[c[0]..c[1]].iter_mut().for_each(|m| *m |= 2);
+                need[c[2]..c[3]].iter_mut().for_each(|m| *m |= 1);
                 (ua, ub) = (ua.min(bp[c[0]]), ub.max(bp[c[3]]));
             }
         }
@@ -474,8 +479,14 @@ pub fn integrate_rows(
             };
             let mut acc = [0u32; 4];
             for i in 0..bp.len().saturating_sub(1) {
-                if need[i] {
-                    let [r, l, v] = seg_n::<true>(&ctx, n, bp[i], bp[i + 1]);
+                let (s, e) = (bp[i], bp[i + 1]);
+                let sums = match need[i] {
+                    0 => None,
+                    1 => Some(seg_n::<true, false>(&ctx, n, s, e)),
+                    2 => Some(seg_n::<false, true>(&ctx, n, s, e)),
+                    _ => Some(seg_n::<true, true>(&ctx, n, s, e)),
+                };
+                if let Some([r, l, v]) = sums {
                     acc[0] = acc[0].wrapping_add(r);
                     acc[1] = acc[1].wrapping_add(l);
                     acc[2] = acc[2].wrapping_add(v);
@@ -497,8 +508,8 @@ pub fn integrate_rows(
             };
             let mut acc = 0u32;
             for i in 0..bp.len().saturating_sub(1) {
-                if need[i] {
-                    acc = acc.wrapping_add(seg_n::<false>(&ctx, n, bp[i], bp[i + 1])[2]);
+                if need[i] != 0 {
+                    acc = acc.wrapping_add(seg_n::<false, false>(&ctx, n, bp[i], bp[i + 1])[2]);
                 }
                 pre[i + 1][3] = acc;
             }
