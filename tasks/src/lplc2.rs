@@ -200,10 +200,11 @@ fn hi(v: u32) -> i32 {
     (v as i32) >> 16
 }
 
-/// Two `i16` lanes as one word, `l | h << 16`.
+/// A packed byte pair `l | h << 16` scaled lane by lane, `a·l | b·h << 16`: both products
+/// are at most `128·255 = 32640`, positive `i16` lanes.
 #[inline(always)]
-fn pack(l: i32, h: i32) -> u32 {
-    (l as u32 & 0xFFFF) | (h as u32) << 16
+fn scale(p: u32, a: u32, b: u32) -> u32 {
+    ((p & 0xFFFF) * a) | (((p >> 16) * b) << 16)
 }
 
 /// `row[x + PAD] = a[x] | b[x] << 16` for the columns `c0..c1` of row `y` of two byte maps.
@@ -289,8 +290,8 @@ struct RowCtx<'a> {
     /// The same at `t − C_d`.
     vd: &'a [u32; WIDTH],
     /// `a` and `b` of [`Narrow`] (≤ 128, so `a·L` of a byte fits an `i16` lane).
-    a: i16,
-    b: i16,
+    a: u16,
+    b: u16,
     shift: u32,
 }
 
@@ -299,11 +300,12 @@ struct RowCtx<'a> {
 /// `T = Σ_c [L(q_c,t)·L(p,t−C_d) − L(q_c,t−C_d)·L(p,t)] = L(p,t−C_d)·S(t) − L(p,t)·S(t−C_d)`
 /// with `S = Σ_c L(q_c)` (Eq. 6), so `a·T4 + b·T5 = a·on_d·S_on + b·off_d·S_off
 /// − a·on·S_on_d − b·off·S_off_d`: four 16x16 products of packed lanes
-/// (`own_d = a·on_d | b·off_d << 16`, `own_n = −a·on | −b·off << 16`,
-/// `sn = S_on | S_off << 16`, `sd` likewise), SMULBB/SMLATT on the Cortex-M4.
+/// (`own_d = a·on_d | b·off_d << 16`, `own_n = a·on | b·off << 16`,
+/// `sn = S_on | S_off << 16`, `sd` likewise), two dual multiply-adds and a subtraction on the
+/// Cortex-M4. Every product is below `32640·1020 < 2^25`: no `i32` overflow.
 #[inline(always)]
 fn lm(own_d: u32, own_n: u32, sn: u32, sd: u32, shift: u32) -> u32 {
-    let pre = lo(own_d) * lo(sn) + hi(own_d) * hi(sn) + lo(own_n) * lo(sd) + hi(own_n) * hi(sd);
+    let pre = (lo(own_d) * lo(sn) + hi(own_d) * hi(sn)) - (lo(own_n) * lo(sd) + hi(own_n) * hi(sd));
     // rectified; a row's sum stays below u32::MAX (Narrow::new)
     (pre >> shift).max(0) as u32
 }
@@ -323,7 +325,7 @@ fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: us
     let sum = |p: &[u32]| p.iter().fold(0u32, |a, &v| a.wrapping_add(v));
     let (mut ln, mut ld) = (sum(&now[..N]), sum(&del[..N]));
     let (mut rn, mut rd) = (sum(&now[N + 1..2 * N + 1]), sum(&del[N + 1..2 * N + 1]));
-    let (a, b) = (i32::from(r.a), i32::from(r.b));
+    let (a, b) = (u32::from(r.a), u32::from(r.b));
     let shift = r.shift;
     let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
     let it = now
@@ -333,8 +335,7 @@ fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: us
         .zip(&r.vd[s..e]);
     for (((wn, wd), &vn), &vd) in it {
         let (pn, pd) = (wn[N], wd[N]);
-        let own_d = pack(a * lo(pd), b * hi(pd));
-        let own_n = pack(-a * lo(pn), -b * hi(pn));
+        let (own_d, own_n) = (scale(pd, a, b), scale(pn, a, b));
         sv = sv.wrapping_add(lm(own_d, own_n, vn, vd, shift));
         if R {
             sr = sr.wrapping_add(lm(own_d, own_n, rn, rd, shift));
@@ -462,8 +463,8 @@ pub fn integrate_rows(
         pack_row(&mut del, m.on_d, m.off_d, y, p0, p1);
         vsum(&mut vn, (m.on, m.off), y, up, n, ua, ub);
         vsum(&mut vd, (m.on_d, m.off_d), y, up, n, ua, ub);
-        let a = i16::try_from(nw.a).unwrap_or(0);
-        let b = i16::try_from(nw.b).unwrap_or(0);
+        let a = u16::try_from(nw.a).unwrap_or(0);
+        let b = u16::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
         // prefix sums over the segments: [r, l, primary vertical, second vertical]
         let mut pre = [[0u32; 4]; MAX_BP];
