@@ -207,62 +207,56 @@ fn scale(p: u32, a: u32, b: u32) -> u32 {
     ((p & 0xFFFF) * a) | (((p >> 16) * b) << 16)
 }
 
-/// `row[x + PAD] = a[x] | b[x] << 16` for the columns `c0..c1` of row `y` of two byte maps.
-/// Lane sums of up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries or
-/// borrows between the lanes.
+/// `row[x + PAD] = [on | off << 16, on_d | off_d << 16]` for the columns `c0..c1` of row `y`
+/// (both channel pairs side by side: one pointer and one `LDRD` in the kernel). Lane sums of
+/// up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries or borrows between
+/// the lanes.
 #[inline(always)]
-fn pack_row(
-    row: &mut [u32; PADDED],
-    a: &[u8; PIXELS],
-    b: &[u8; PIXELS],
-    y: usize,
-    c0: usize,
-    c1: usize,
-) {
+fn pack_row(row: &mut [[u32; 2]; PADDED], m: &Maps, y: usize, c0: usize, c1: usize) {
     let r = y * WIDTH;
-    let (ra, rb) = (&a[r + c0..r + c1], &b[r + c0..r + c1]);
-    for ((p, &a), &b) in row[c0 + PAD..c1 + PAD].iter_mut().zip(ra).zip(rb) {
-        *p = u32::from(a) | u32::from(b) << 16;
+    fn cols(a: &[u8; PIXELS], s: usize, e: usize) -> &[u8] {
+        a.get(s..e).unwrap_or_default()
+    }
+    let span = |a| cols(a, r + c0, r + c1);
+    let it = span(m.on)
+        .iter()
+        .zip(span(m.off))
+        .zip(span(m.on_d).iter().zip(span(m.off_d)));
+    for (p, ((&on, &off), (&on_d, &off_d))) in row[c0 + PAD..c1 + PAD].iter_mut().zip(it) {
+        *p = [
+            u32::from(on) | u32::from(off) << 16,
+            u32::from(on_d) | u32::from(off_d) << 16,
+        ];
     }
 }
 
-/// `out[x] = Σ_{k<K} pack(a, b)(x, r0 + k)` for columns `c0..c1`: a vertical neighbour sum of
-/// `K` rows, all on the retina.
+/// `out[x] = Σ_{k<K} row(x, r0 + k)` (packed as in [`pack_row`]) for columns `c0..c1`: a
+/// vertical neighbour sum of `K` rows, all on the retina.
 #[inline(always)]
-fn vsum_k<const K: usize>(
-    out: &mut [u32; WIDTH],
-    a: &[u8; PIXELS],
-    b: &[u8; PIXELS],
-    r0: usize,
-    c0: usize,
-    c1: usize,
-) {
+fn vsum_k<const K: usize>(out: &mut [[u32; 2]; WIDTH], m: &Maps, r0: usize, c0: usize, c1: usize) {
     let out = &mut out[c0..c1];
     let len = out.len();
-    let ra: [&[u8]; K] = core::array::from_fn(|k| &a[(r0 + k) * WIDTH + c0..][..len]);
-    let rb: [&[u8]; K] = core::array::from_fn(|k| &b[(r0 + k) * WIDTH + c0..][..len]);
+    fn rows<const K: usize>(a: &[u8; PIXELS], r0: usize, c0: usize, len: usize) -> [&[u8]; K] {
+        core::array::from_fn(|k| &a[(r0 + k) * WIDTH + c0..][..len])
+    }
+    let rows = |a| rows::<K>(a, r0, c0, len);
+    let (on, off, on_d, off_d) = (rows(m.on), rows(m.off), rows(m.on_d), rows(m.off_d));
     for (i, o) in out.iter_mut().enumerate() {
-        let (mut sa, mut sb) = (0u32, 0u32);
+        let mut s = [0u32; 4];
         for k in 0..K {
-            sa += u32::from(ra[k][i]);
-            sb += u32::from(rb[k][i]);
+            s[0] += u32::from(on[k][i]);
+            s[1] += u32::from(off[k][i]);
+            s[2] += u32::from(on_d[k][i]);
+            s[3] += u32::from(off_d[k][i]);
         }
-        *o = sa | sb << 16;
+        *o = [s[0] | s[1] << 16, s[2] | s[3] << 16];
     }
 }
 
-/// The packed vertical neighbour sums of row `y` along `dir` (`Up` or `Down`), columns
-/// `c0..c1`: `Σ_{c=1..n} pack(a, b)(x, y ∓ c)` over the neurons on the retina (Eq. 6's
-/// `q_c = p + c·(0, ±1)`; the ones off the retina are 0).
-fn vsum(
-    out: &mut [u32; WIDTH],
-    (a, b): (&[u8; PIXELS], &[u8; PIXELS]),
-    y: usize,
-    up: bool,
-    n: usize,
-    c0: usize,
-    c1: usize,
-) {
+/// The packed vertical neighbour sums of row `y` (up if `up`, else down), columns `c0..c1`:
+/// `Σ_{c=1..n} P(x, y ∓ c)` over the neurons on the retina (Eq. 6's `q_c = p + c·(0, ±1)`;
+/// the ones off the retina are 0).
+fn vsum(out: &mut [[u32; 2]; WIDTH], m: &Maps, y: usize, up: bool, n: usize, c0: usize, c1: usize) {
     let (r0, k) = if up {
         let k = n.min(y);
         (y - k, k)
@@ -270,25 +264,21 @@ fn vsum(
         (y + 1, n.min(HEIGHT - 1 - y))
     };
     match k {
-        1 => vsum_k::<1>(out, a, b, r0, c0, c1),
-        2 => vsum_k::<2>(out, a, b, r0, c0, c1),
-        3 => vsum_k::<3>(out, a, b, r0, c0, c1),
-        4 => vsum_k::<4>(out, a, b, r0, c0, c1),
-        _ => out[c0..c1].fill(0),
+        1 => vsum_k::<1>(out, m, r0, c0, c1),
+        2 => vsum_k::<2>(out, m, r0, c0, c1),
+        3 => vsum_k::<3>(out, m, r0, c0, c1),
+        4 => vsum_k::<4>(out, m, r0, c0, c1),
+        _ => out[c0..c1].fill([0; 2]),
     }
 }
 
 /// What the row kernel reads for one row `y`.
 #[derive(Clone, Copy)]
 struct RowCtx<'a> {
-    /// `on | off << 16` of row `y` at `t`, column `x` at index `x + PAD`.
-    now: &'a [u32; PADDED],
-    /// The same at `t − C_d`.
-    del: &'a [u32; PADDED],
-    /// Vertical neighbour sums at `t` (one direction), column `x` at index `x`.
-    vn: &'a [u32; WIDTH],
-    /// The same at `t − C_d`.
-    vd: &'a [u32; WIDTH],
+    /// Row `y` packed ([`pack_row`]) at `t` and `t − C_d`, column `x` at index `x + PAD`.
+    row: &'a [[u32; 2]; PADDED],
+    /// Its vertical neighbour sums (one direction), column `x` at index `x`.
+    vs: &'a [[u32; 2]; WIDTH],
     /// `a` and `b` of [`Narrow`] (≤ 128, so `a·L` of a byte fits an `i16` lane).
     a: u16,
     b: u16,
@@ -321,31 +311,32 @@ fn lm(own_d: u32, own_n: u32, sn: u32, sd: u32, shift: u32) -> u32 {
 fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3] {
     // P(x) sits at index x + PAD; the windows span P(x − N ..= x + N + 1)
     let (i0, i1) = (s + PAD - N, e + PAD + N + 1);
-    let (now, del) = (&r.now[i0..i1], &r.del[i0..i1]);
-    let sum = |p: &[u32]| p.iter().fold(0u32, |a, &v| a.wrapping_add(v));
-    let (mut ln, mut ld) = (sum(&now[..N]), sum(&del[..N]));
-    let (mut rn, mut rd) = (sum(&now[N + 1..2 * N + 1]), sum(&del[N + 1..2 * N + 1]));
+    let row = &r.row[i0..i1];
+    let sum = |p: &[[u32; 2]]| {
+        p.iter().fold([0u32; 2], |a, v| {
+            [a[0].wrapping_add(v[0]), a[1].wrapping_add(v[1])]
+        })
+    };
+    let [mut ln, mut ld] = sum(&row[..N]);
+    let [mut rn, mut rd] = sum(&row[N + 1..2 * N + 1]);
     let (a, b) = (u32::from(r.a), u32::from(r.b));
     let shift = r.shift;
     let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
-    let it = now
-        .windows(2 * N + 2)
-        .zip(del.windows(2 * N + 2))
-        .zip(&r.vn[s..e])
-        .zip(&r.vd[s..e]);
-    for (((wn, wd), &vn), &vd) in it {
-        let (pn, pd) = (wn[N], wd[N]);
+    for (w, &[vn, vd]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
+        let [pn, pd] = w[N];
         let (own_d, own_n) = (scale(pd, a, b), scale(pn, a, b));
         sv = sv.wrapping_add(lm(own_d, own_n, vn, vd, shift));
         if R {
             sr = sr.wrapping_add(lm(own_d, own_n, rn, rd, shift));
-            rn = rn.wrapping_add(wn[2 * N + 1]).wrapping_sub(wn[N + 1]);
-            rd = rd.wrapping_add(wd[2 * N + 1]).wrapping_sub(wd[N + 1]);
+            let ([en, ed], [ln_, ld_]) = (w[2 * N + 1], w[N + 1]);
+            rn = rn.wrapping_add(en).wrapping_sub(ln_);
+            rd = rd.wrapping_add(ed).wrapping_sub(ld_);
         }
         if L {
             sl = sl.wrapping_add(lm(own_d, own_n, ln, ld, shift));
-            ln = ln.wrapping_add(wn[N]).wrapping_sub(wn[0]);
-            ld = ld.wrapping_add(wd[N]).wrapping_sub(wd[0]);
+            let [on_, od_] = w[0];
+            ln = ln.wrapping_add(pn).wrapping_sub(on_);
+            ld = ld.wrapping_add(pd).wrapping_sub(od_);
         }
     }
     [sr, sl, sv]
@@ -433,10 +424,8 @@ pub fn integrate_rows(
     let fields = &fields[..count];
 
     let mut q = [[0u64; 4]; crate::network::MAX_AFS];
-    let mut now = [0u32; PADDED];
-    let mut del = [0u32; PADDED];
-    let mut vn = [0u32; WIDTH];
-    let mut vd = [0u32; WIDTH];
+    let mut row = [[0u32; 2]; PADDED];
+    let mut vs = [[0u32; 2]; WIDTH];
     let (y_lo, y_hi) = fields
         .iter()
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
@@ -459,10 +448,8 @@ pub fn integrate_rows(
             continue;
         }
         let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
-        pack_row(&mut now, m.on, m.off, y, p0, p1);
-        pack_row(&mut del, m.on_d, m.off_d, y, p0, p1);
-        vsum(&mut vn, (m.on, m.off), y, up, n, ua, ub);
-        vsum(&mut vd, (m.on_d, m.off_d), y, up, n, ua, ub);
+        pack_row(&mut row, m, y, p0, p1);
+        vsum(&mut vs, m, y, up, n, ua, ub);
         let a = u16::try_from(nw.a).unwrap_or(0);
         let b = u16::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
@@ -470,10 +457,8 @@ pub fn integrate_rows(
         let mut pre = [[0u32; 4]; MAX_BP];
         {
             let ctx = RowCtx {
-                now: &now,
-                del: &del,
-                vn: &vn,
-                vd: &vd,
+                row: &row,
+                vs: &vs,
                 a,
                 b,
                 shift,
@@ -496,13 +481,10 @@ pub fn integrate_rows(
             }
         }
         if up && down {
-            vsum(&mut vn, (m.on, m.off), y, false, n, ua, ub);
-            vsum(&mut vd, (m.on_d, m.off_d), y, false, n, ua, ub);
+            vsum(&mut vs, m, y, false, n, ua, ub);
             let ctx = RowCtx {
-                now: &now,
-                del: &del,
-                vn: &vn,
-                vd: &vd,
+                row: &row,
+                vs: &vs,
                 a,
                 b,
                 shift,
