@@ -366,8 +366,8 @@ fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize)
 /// [`integrate_all`] row by row in the narrow form (`s = 1`).
 ///
 /// The fields' columns `x0`, `x̄`, `x̄ + 1` (clamped to the square) and `x1 + 1` cut the row
-/// into at most [`MAX_BP`] − 1 segments. For each row, every segment some field (off its
-/// centroid's row) covers is run once through [`seg`]: per pixel its own values and the
+/// into at most `MAX_BP − 1` segments. For each row, every segment some field (off its
+/// centroid's row) covers is run once through the row kernel: per pixel its own values and the
 /// local motion of r, l and the row's vertical direction (u above a centroid, d below; a
 /// second, vertical-only run when the row has fields of both kinds), summed per segment.
 /// Prefix sums over the segments then give each field its quadrant segments, Eq. (8): left of
