@@ -182,8 +182,11 @@ impl Narrow {
 /// Columns of margin around a packed row, so that neighbours `x ± c` (`c ≤ MAX_N`) of any
 /// column index without a bounds test; the margin holds zeros: no neuron outside the retina.
 const PAD: usize = crate::params::MAX_N as usize;
-/// A packed row with its margins (and one spare slot for the running window's last read).
+/// A packed row with its margins (and one spare slot for the running windows' last update).
 const PADDED: usize = WIDTH + 2 * PAD + 1;
+/// Column breakpoints of up to [`MAX_AFS`](crate::network::MAX_AFS) fields: each field's
+/// `x0`, `x̄` and `x̄ + 1` (clamped to the square) and `x1 + 1`.
+const MAX_BP: usize = 4 * crate::network::MAX_AFS;
 
 /// Signed low half of a packed word (an `i16` lane).
 #[inline(always)]
@@ -197,177 +200,179 @@ fn hi(v: u32) -> i32 {
     (v as i32) >> 16
 }
 
-/// One channel pair (`on`/`off` at `t`, or at `t − C_d`) of the row being processed, packed
-/// as `on | off << 16`: sums of up to `MAX_N` bytes (≤ 1020) never carry between the lanes.
-struct Packed {
-    /// The row itself, at index `x + PAD`.
-    row: [u32; PADDED],
-    /// Horizontal window `W(x) = Σ_{c=0..n−1} P(x + c)` at index `x + PAD`: the rightward
-    /// neighbours of `x` are `W(x + 1)`, the leftward ones `W(x − n)`.
-    win: [u32; PADDED],
-    /// Downward neighbours `Σ_{c=1..n} P(x, y + c)` of the current row.
-    down: [u32; WIDTH],
-    /// Upward neighbours `Σ_{c=1..n} P(x, y − c)` of the current row.
-    up: [u32; WIDTH],
-}
-
-impl Packed {
-    const fn new() -> Self {
-        Packed {
-            row: [0; PADDED],
-            win: [0; PADDED],
-            down: [0; WIDTH],
-            up: [0; WIDTH],
-        }
-    }
-}
-
-/// Row `y` of two byte maps, columns `c0..c1`.
+/// A packed byte pair `l | h << 16` scaled lane by lane, `a·l | b·h << 16`: both products
+/// are at most `128·255 = 32640`, positive `i16` lanes.
 #[inline(always)]
-fn rows2<'a>(
-    a: &'a [u8; PIXELS],
-    b: &'a [u8; PIXELS],
-    y: usize,
-    c0: usize,
-    c1: usize,
-) -> (&'a [u8], &'a [u8]) {
+fn scale(p: u32, a: u32, b: u32) -> u32 {
+    ((p & 0xFFFF) * a) | (((p >> 16) * b) << 16)
+}
+
+/// `row[x + PAD] = [on | off << 16, on_d | off_d << 16]` for the columns `c0..c1` of row `y`
+/// (both channel pairs side by side: one pointer and one `LDRD` in the kernel). Lane sums of
+/// up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries or borrows between
+/// the lanes.
+#[inline(always)]
+fn pack_row(row: &mut [[u32; 2]; PADDED], m: &Maps, y: usize, c0: usize, c1: usize) {
     let r = y * WIDTH;
-    (&a[r + c0..r + c1], &b[r + c0..r + c1])
+    fn cols(a: &[u8; PIXELS], s: usize, e: usize) -> &[u8] {
+        a.get(s..e).unwrap_or_default()
+    }
+    let span = |a| cols(a, r + c0, r + c1);
+    let it = span(m.on)
+        .iter()
+        .zip(span(m.off))
+        .zip(span(m.on_d).iter().zip(span(m.off_d)));
+    for (p, ((&on, &off), (&on_d, &off_d))) in row[c0 + PAD..c1 + PAD].iter_mut().zip(it) {
+        *p = [
+            u32::from(on) | u32::from(off) << 16,
+            u32::from(on_d) | u32::from(off_d) << 16,
+        ];
+    }
 }
 
-/// `acc[i] += pack(a[i], b[i])` (`add`) or `acc[i] −= pack(a[i], b[i])`; lane-wise sums stay
-/// in `0..=MAX_N·255`, so the word arithmetic never borrows or carries between lanes.
+/// `out[x] = Σ_{k<K} row(x, r0 + k)` (packed as in [`pack_row`]) for columns `c0..c1`: a
+/// vertical neighbour sum of `K` rows, all on the retina.
 #[inline(always)]
-fn acc_packed(acc: &mut [u32], a: &[u8], b: &[u8], add: bool) {
-    let it = acc.iter_mut().zip(a).zip(b);
-    if add {
-        for ((s, &a), &b) in it {
-            *s = s.wrapping_add(u32::from(a) | u32::from(b) << 16);
+fn vsum_k<const K: usize>(out: &mut [[u32; 2]; WIDTH], m: &Maps, r0: usize, c0: usize, c1: usize) {
+    let out = &mut out[c0..c1];
+    let len = out.len();
+    fn rows<const K: usize>(a: &[u8; PIXELS], r0: usize, c0: usize, len: usize) -> [&[u8]; K] {
+        core::array::from_fn(|k| &a[(r0 + k) * WIDTH + c0..][..len])
+    }
+    let rows = |a| rows::<K>(a, r0, c0, len);
+    let (on, off, on_d, off_d) = (rows(m.on), rows(m.off), rows(m.on_d), rows(m.off_d));
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut s = [0u32; 4];
+        for k in 0..K {
+            s[0] += u32::from(on[k][i]);
+            s[1] += u32::from(off[k][i]);
+            s[2] += u32::from(on_d[k][i]);
+            s[3] += u32::from(off_d[k][i]);
         }
+        *o = [s[0] | s[1] << 16, s[2] | s[3] << 16];
+    }
+}
+
+/// The packed vertical neighbour sums of row `y` (up if `up`, else down), columns `c0..c1`:
+/// `Σ_{c=1..n} P(x, y ∓ c)` over the neurons on the retina (Eq. 6's `q_c = p + c·(0, ±1)`;
+/// the ones off the retina are 0).
+fn vsum(out: &mut [[u32; 2]; WIDTH], m: &Maps, y: usize, up: bool, n: usize, c0: usize, c1: usize) {
+    let (r0, k) = if up {
+        let k = n.min(y);
+        (y - k, k)
     } else {
-        for ((s, &a), &b) in it {
-            *s = s.wrapping_sub(u32::from(a) | u32::from(b) << 16);
-        }
+        (y + 1, n.min(HEIGHT - 1 - y))
+    };
+    match k {
+        1 => vsum_k::<1>(out, m, r0, c0, c1),
+        2 => vsum_k::<2>(out, m, r0, c0, c1),
+        3 => vsum_k::<3>(out, m, r0, c0, c1),
+        4 => vsum_k::<4>(out, m, r0, c0, c1),
+        _ => out[c0..c1].fill([0; 2]),
     }
 }
 
-impl Packed {
-    /// Neighbour sums of the first row `y` of the box, columns `c0..c1`, from scratch.
-    fn start(
-        &mut self,
-        (a, b): (&[u8; PIXELS], &[u8; PIXELS]),
-        y: usize,
-        n: usize,
-        (c0, c1): (usize, usize),
-    ) {
-        self.down[c0..c1].fill(0);
-        self.up[c0..c1].fill(0);
-        for c in 1..=n {
-            if y + c < HEIGHT {
-                let (ra, rb) = rows2(a, b, y + c, c0, c1);
-                acc_packed(&mut self.down[c0..c1], ra, rb, true);
-            }
-            if let Some(yu) = y.checked_sub(c) {
-                let (ra, rb) = rows2(a, b, yu, c0, c1);
-                acc_packed(&mut self.up[c0..c1], ra, rb, true);
-            }
-        }
-    }
-
-    /// Moves the vertical sums from row `y − 1` to row `y` (columns `c0..c1`), then packs row `y`
-    /// (columns `p0..p1`) and its horizontal windows (columns `c0 − n ..= c1`).
-    ///
-    /// `U(y) = U(y−1) + P(y−1) − P(y−1−n)` and `D(y) = D(y−1) − P(y) + P(y+n)`: each sum drops
-    /// the neuron that left the reach and takes the one that entered (none beyond the retina).
-    fn advance(
-        &mut self,
-        (a, b): (&[u8; PIXELS], &[u8; PIXELS]),
-        y: usize,
-        n: usize,
-        (c0, c1): (usize, usize),
-        (p0, p1): (usize, usize),
-        first: bool,
-    ) {
-        if !first {
-            // U gains row y − 1 (still in `row`) and loses row y − 1 − n
-            for (u, &p) in self.up[c0..c1]
-                .iter_mut()
-                .zip(&self.row[c0 + PAD..c1 + PAD])
-            {
-                *u = u.wrapping_add(p);
-            }
-            if let Some(yo) = (y - 1).checked_sub(n) {
-                let (ra, rb) = rows2(a, b, yo, c0, c1);
-                acc_packed(&mut self.up[c0..c1], ra, rb, false);
-            }
-        }
-        let (ra, rb) = rows2(a, b, y, p0, p1);
-        for ((p, &a), &b) in self.row[p0 + PAD..p1 + PAD].iter_mut().zip(ra).zip(rb) {
-            *p = u32::from(a) | u32::from(b) << 16;
-        }
-        if !first {
-            // D loses row y and gains row y + n
-            for (d, &p) in self.down[c0..c1]
-                .iter_mut()
-                .zip(&self.row[c0 + PAD..c1 + PAD])
-            {
-                *d = d.wrapping_sub(p);
-            }
-            if y + n < HEIGHT {
-                let (ra, rb) = rows2(a, b, y + n, c0, c1);
-                acc_packed(&mut self.down[c0..c1], ra, rb, true);
-            }
-        }
-        // W(x) for x = c0 − n ..= c1, i.e. indices j0 ..= j1, by a running window
-        let (j0, j1) = (c0 + PAD - n, c1 + PAD);
-        let mut w = self.row[j0..j0 + n]
-            .iter()
-            .fold(0u32, |s, &p| s.wrapping_add(p));
-        self.win[j0] = w;
-        let leaving = &self.row[j0..j1];
-        let entering = &self.row[j0 + n..j1 + n];
-        for ((o, &l), &e) in self.win[j0 + 1..=j1].iter_mut().zip(leaving).zip(entering) {
-            w = w.wrapping_add(e).wrapping_sub(l);
-            *o = w;
-        }
-    }
+/// What the row kernel reads for one row `y`.
+#[derive(Clone, Copy)]
+struct RowCtx<'a> {
+    /// Row `y` packed ([`pack_row`]) at `t` and `t − C_d`, column `x` at index `x + PAD`.
+    row: &'a [[u32; 2]; PADDED],
+    /// Its vertical neighbour sums (one direction), column `x` at index `x`.
+    vs: &'a [[u32; 2]; WIDTH],
+    /// `a` and `b` of [`Narrow`] (≤ 128, so `a·L` of a byte fits an `i16` lane).
+    a: u16,
+    b: u16,
+    shift: u32,
 }
 
-/// Eq. (7) along one direction for columns `ua..ub` of a row, as a running sum:
-/// `out[i] = Σ_{x < ua + i} LM(x)` (so `out[0] = 0`).
+/// Eq. (7), rectified, from the pixel's pre-scaled own values and its packed neighbour sums:
 ///
-/// Per pixel, Eq. (6) with the neighbour sums `S_ch = Σ_c L_ch(q_c)`:
-/// `T = Σ_c [L(q_c,t)·L(p,t−C_d) − L(q_c,t−C_d)·L(p,t)] = L(p,t−C_d)·S(t) − L(p,t)·S(t−C_d)`,
-/// so `a·T4 + b·T5 = a·on_d·S_on − a·on·S_on_d + b·off_d·S_off − b·off·S_off_d`: four 16x16
-/// multiplies of packed lanes (`own_d = a·on_d | b·off_d << 16`,
-/// `own_n = −a·on | −b·off << 16`, `sum_n = S_on | S_off << 16`, `sum_d` likewise), which the
-/// Cortex-M4 does as SMULBB/SMLATT.
+/// `T = Σ_c [L(q_c,t)·L(p,t−C_d) − L(q_c,t−C_d)·L(p,t)] = L(p,t−C_d)·S(t) − L(p,t)·S(t−C_d)`
+/// with `S = Σ_c L(q_c)` (Eq. 6), so `a·T4 + b·T5 = a·on_d·S_on + b·off_d·S_off
+/// − a·on·S_on_d − b·off·S_off_d`: four 16x16 products of packed lanes
+/// (`own_d = a·on_d | b·off_d << 16`, `own_n = a·on | b·off << 16`,
+/// `sn = S_on | S_off << 16`, `sd` likewise), two dual multiply-adds and a subtraction on the
+/// Cortex-M4. Every product is below `32640·1020 < 2^25`: no `i32` overflow.
 #[inline(always)]
-fn lm_run(own_d: &[u32], own_n: &[u32], sum_n: &[u32], sum_d: &[u32], shift: u32, out: &mut [u32]) {
-    let mut acc = 0u32;
-    if let Some(o) = out.first_mut() {
-        *o = 0;
+fn lm(own_d: u32, own_n: u32, sn: u32, sd: u32, shift: u32) -> u32 {
+    let pre = (lo(own_d) * lo(sn) + hi(own_d) * hi(sn)) - (lo(own_n) * lo(sd) + hi(own_n) * hi(sd));
+    // rectified; a row's sum stays below u32::MAX (Narrow::new)
+    (pre >> shift).max(0) as u32
+}
+
+/// `[Σ LM_r, Σ LM_l, Σ LM_v]` over the columns `s..e` of the row, `N` connected neurons: `v`
+/// (the direction of `vn`/`vd`) always, `r` if `R`, `l` if `L` (0 for a direction not asked:
+/// a segment right of every field's centroid needs no `l`, Eq. 8).
+///
+/// Horizontal neighbour sums are running windows in registers:
+/// `R(x) = Σ_{c=1..N} P(x + c)`, `R(x+1) = R(x) + P(x+1+N) − P(x+1)`;
+/// `L(x) = Σ_{c=1..N} P(x − c)`, `L(x+1) = L(x) + P(x) − P(x−N)` (zeros off the retina).
+#[inline(always)]
+fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3] {
+    // P(x) sits at index x + PAD; the windows span P(x − N ..= x + N + 1)
+    let (i0, i1) = (s + PAD - N, e + PAD + N + 1);
+    let row = &r.row[i0..i1];
+    let sum = |p: &[[u32; 2]]| {
+        p.iter().fold([0u32; 2], |a, v| {
+            [a[0].wrapping_add(v[0]), a[1].wrapping_add(v[1])]
+        })
+    };
+    let [mut ln, mut ld] = sum(&row[..N]);
+    let [mut rn, mut rd] = sum(&row[N + 1..2 * N + 1]);
+    let (a, b) = (u32::from(r.a), u32::from(r.b));
+    let shift = r.shift;
+    let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
+    for (w, &[vn, vd]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
+        let [pn, pd] = w[N];
+        let (own_d, own_n) = (scale(pd, a, b), scale(pn, a, b));
+        sv = sv.wrapping_add(lm(own_d, own_n, vn, vd, shift));
+        if R {
+            sr = sr.wrapping_add(lm(own_d, own_n, rn, rd, shift));
+            let ([en, ed], [ln_, ld_]) = (w[2 * N + 1], w[N + 1]);
+            rn = rn.wrapping_add(en).wrapping_sub(ln_);
+            rd = rd.wrapping_add(ed).wrapping_sub(ld_);
+        }
+        if L {
+            sl = sl.wrapping_add(lm(own_d, own_n, ln, ld, shift));
+            let [on_, od_] = w[0];
+            ln = ln.wrapping_add(pn).wrapping_sub(on_);
+            ld = ld.wrapping_add(pd).wrapping_sub(od_);
+        }
     }
-    let tail = out.get_mut(1..).unwrap_or_default();
-    for ((((o, &xd), &xn), &sn), &sd) in tail.iter_mut().zip(own_d).zip(own_n).zip(sum_n).zip(sum_d)
-    {
-        let pre = lo(xd) * lo(sn) + hi(xd) * hi(sn) + lo(xn) * lo(sd) + hi(xn) * hi(sd);
-        // rectified; a row's sum stays below u32::MAX (Narrow::new)
-        acc = acc.wrapping_add((pre >> shift).max(0) as u32);
-        *o = acc;
+    [sr, sl, sv]
+}
+
+/// [`seg`] for the row's `n`.
+#[inline(always)]
+fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
+    if (n, r.a, r.b, r.shift) == (3, 1, 16, 8) {
+        // Table I (`t4_q16 = 2^16`, `t5_q16 = 2^20`, `shift = 24`): constants free registers
+        let paper = RowCtx {
+            a: 1,
+            b: 16,
+            shift: 8,
+            ..*r
+        };
+        return seg::<R, L, 3>(&paper, s, e);
+    }
+    match n {
+        1 => seg::<R, L, 1>(r, s, e),
+        2 => seg::<R, L, 2>(r, s, e),
+        3 => seg::<R, L, 3>(r, s, e),
+        _ => seg::<R, L, 4>(r, s, e),
     }
 }
 
 /// [`integrate_all`] row by row in the narrow form (`s = 1`).
 ///
-/// For each row of the union of the squares:
-/// 1. the packed neighbour sums of both channel pairs (horizontal windows, vertical running
-///    sums carried from the row above);
-/// 2. for each direction some field needs on this row (r and l where a field's row is not its
-///    centroid's, u above a centroid, d below), the rectified local motion of every column the
-///    row's fields cover, as a running sum ([`lm_run`]);
-/// 3. each field adds its segments: left of `x̄` to Q2 (l, u) or Q3 (l, d), right of `x̄` to Q1
-///    (r, u) or Q4 (r, d), Eq. (8); the centroid's own row and column belong to no quadrant.
+/// The fields' columns `x0`, `x̄`, `x̄ + 1` (clamped to the square) and `x1 + 1` cut the row
+/// into at most `MAX_BP − 1` segments. For each row, every segment some field (off its
+/// centroid's row) covers is run once through the row kernel: per pixel its own values and the
+/// local motion of r, l and the row's vertical direction (u above a centroid, d below; a
+/// second, vertical-only run when the row has fields of both kinds), summed per segment.
+/// Prefix sums over the segments then give each field its quadrant segments, Eq. (8): left of
+/// `x̄` to Q2 (l + u) or Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's
+/// own row and column belong to no quadrant. A row's sums stay below `u32::MAX` (`Narrow`).
 pub fn integrate_rows(
     m: &Maps,
     nw: &Narrow,
@@ -378,111 +383,135 @@ pub fn integrate_rows(
 ) {
     let count = regions.len().min(out.len()).min(crate::network::MAX_AFS);
     let (regions, out) = (&regions[..count], &mut out[..count]);
-    // squares clipped to the retina, inclusive ranges as (x0, x1 + 1) half-open
-    let mut boxes = [((0usize, 0usize), (0usize, 0usize)); crate::network::MAX_AFS];
-    let mut bound: Option<((usize, usize), (usize, usize))> = None;
-    for (b, r) in boxes.iter_mut().zip(regions) {
-        let cols = (r.cols.0, r.cols.1.saturating_add(1).min(WIDTH));
-        let rows = (r.rows.0, r.rows.1.saturating_add(1).min(HEIGHT));
-        *b = (cols, rows);
-        if cols.0 < cols.1 && rows.0 < rows.1 {
-            bound = Some(match bound {
-                None => (cols, rows),
-                Some((c, w)) => (
-                    (c.0.min(cols.0), c.1.max(cols.1)),
-                    (w.0.min(rows.0), w.1.max(rows.1)),
-                ),
-            });
+    let n = nw.n.clamp(1, PAD);
+    // per field: rows (y0, y1 + 1), centroid row, and the breakpoints x0, left end, right
+    // start, x1 + 1 (as columns, then as indices into `bp`)
+    // (an empty square keeps rows 0..0: never on a row)
+    let mut fields = [(0usize, 0usize, 0usize, [0usize; 4]); crate::network::MAX_AFS];
+    let mut bp = [0usize; MAX_BP];
+    let mut nbp = 0;
+    for (f, r) in fields.iter_mut().zip(regions) {
+        let (x0, x1) = (r.cols.0, r.cols.1.saturating_add(1).min(WIDTH));
+        let (y0, y1) = (r.rows.0, r.rows.1.saturating_add(1).min(HEIGHT));
+        let cx = r.centre.0;
+        let cols = [x0, cx.clamp(x0, x1), cx.saturating_add(1).clamp(x0, x1), x1];
+        if x0 < x1 && y0 < y1 {
+            for (b, c) in bp[nbp..].iter_mut().zip(cols) {
+                *b = c;
+            }
+            nbp = (nbp + 4).min(MAX_BP);
+            *f = (y0, y1, r.centre.1, cols);
         }
     }
+    // sorted, unique breakpoints
+    let bp = {
+        let v = &mut bp[..nbp];
+        v.sort_unstable();
+        let mut u = 0;
+        for i in 0..v.len() {
+            if u == 0 || v[i] != v[u - 1] {
+                v[u] = v[i];
+                u += 1;
+            }
+        }
+        &bp[..u]
+    };
+    for f in fields[..count].iter_mut() {
+        for c in f.3.iter_mut() {
+            *c = bp.iter().position(|&b| b == *c).unwrap_or(0);
+        }
+    }
+    let fields = &fields[..count];
+
     let mut q = [[0u64; 4]; crate::network::MAX_AFS];
-    if let Some(((c0, c1), (r0, r1))) = bound {
-        let n = nw.n;
-        // columns whose packed values the windows read
-        let (p0, p1) = (c0.saturating_sub(n), (c1 + n).min(WIDTH));
-        let mut now = Packed::new();
-        let mut del = Packed::new();
-        now.start((m.on, m.off), r0, n, (c0, c1));
-        del.start((m.on_d, m.off_d), r0, n, (c0, c1));
-        let mut own_d = [0u32; WIDTH];
-        let mut own_n = [0u32; WIDTH];
-        let mut run = [0u32; WIDTH + 1];
-        let (a, b) = (nw.a, nw.b);
-        for y in r0..r1 {
-            now.advance((m.on, m.off), y, n, (c0, c1), (p0, p1), y == r0);
-            del.advance((m.on_d, m.off_d), y, n, (c0, c1), (p0, p1), y == r0);
-            // the row's span and the directions its fields need
-            let (mut ua, mut ub) = (WIDTH, 0);
-            let (mut horiz, mut up, mut down) = (false, false, false);
-            for &((x0, x1), (y0, y1)) in &boxes[..count] {
-                if (y0..y1).contains(&y) && x0 < x1 {
-                    (ua, ub) = (ua.min(x0), ub.max(x1));
-                }
+    let mut row = [[0u32; 2]; PADDED];
+    let mut vs = [[0u32; 2]; WIDTH];
+    let (y_lo, y_hi) = fields
+        .iter()
+        .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
+    for y in y_lo..y_hi {
+        // the segments some field needs on this row, and the vertical directions
+        // bit 0: r, bit 1: l (left of some field's centroid)
+        let mut need = [0u8; MAX_BP];
+        let (mut up, mut down) = (false, false);
+        let (mut ua, mut ub) = (WIDTH, 0);
+        for &(y0, y1, cy, c) in fields {
+            if (y0..y1).contains(&y) && y != cy {
+                up |= y < cy;
+                down |= y > cy;
+                need[c[0]..c[1]].iter_mut().for_each(|m| *m |= 2);
+                need[c[2]..c[3]].iter_mut().for_each(|m| *m |= 1);
+                (ua, ub) = (ua.min(bp[c[0]]), ub.max(bp[c[3]]));
             }
-            for (r, &((x0, x1), (y0, y1))) in regions.iter().zip(&boxes[..count]) {
-                if (y0..y1).contains(&y) && x0 < x1 {
-                    up |= y < r.centre.1;
-                    down |= y > r.centre.1;
+        }
+        if !(up || down) {
+            continue;
+        }
+        let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
+        pack_row(&mut row, m, y, p0, p1);
+        vsum(&mut vs, m, y, up, n, ua, ub);
+        let a = u16::try_from(nw.a).unwrap_or(0);
+        let b = u16::try_from(nw.b).unwrap_or(0);
+        let shift = nw.shift;
+        // prefix sums over the segments: [r, l, primary vertical, second vertical]
+        let mut pre = [[0u32; 4]; MAX_BP];
+        {
+            let ctx = RowCtx {
+                row: &row,
+                vs: &vs,
+                a,
+                b,
+                shift,
+            };
+            let mut acc = [0u32; 4];
+            for i in 0..bp.len().saturating_sub(1) {
+                let (s, e) = (bp[i], bp[i + 1]);
+                let sums = match need[i] {
+                    0 => None,
+                    1 => Some(seg_n::<true, false>(&ctx, n, s, e)),
+                    2 => Some(seg_n::<false, true>(&ctx, n, s, e)),
+                    _ => Some(seg_n::<true, true>(&ctx, n, s, e)),
+                };
+                if let Some([r, l, v]) = sums {
+                    acc[0] = acc[0].wrapping_add(r);
+                    acc[1] = acc[1].wrapping_add(l);
+                    acc[2] = acc[2].wrapping_add(v);
                 }
+                pre[i + 1] = acc;
             }
-            horiz |= up || down;
-            if !horiz {
+        }
+        if up && down {
+            vsum(&mut vs, m, y, false, n, ua, ub);
+            let ctx = RowCtx {
+                row: &row,
+                vs: &vs,
+                a,
+                b,
+                shift,
+            };
+            let mut acc = 0u32;
+            for i in 0..bp.len().saturating_sub(1) {
+                if need[i] != 0 {
+                    acc = acc.wrapping_add(seg_n::<false, false>(&ctx, n, bp[i], bp[i + 1])[2]);
+                }
+                pre[i + 1][3] = acc;
+            }
+        }
+        // the down sums: the primary vertical when the row has no upward field
+        let d_slot = if up { 3 } else { 2 };
+        for (&(y0, y1, cy, c), acc) in fields.iter().zip(q.iter_mut()) {
+            if !(y0..y1).contains(&y) || y == cy {
                 continue;
             }
-            // own values, scaled and packed (a·on_d, b·off_d) and (−a·on, −b·off)
-            let (on, off) = rows2(m.on, m.off, y, ua, ub);
-            let (on_d, off_d) = rows2(m.on_d, m.off_d, y, ua, ub);
-            let own = own_d[ua..ub].iter_mut().zip(own_n[ua..ub].iter_mut());
-            for ((((d, nn), &on), &off), (&on_d, &off_d)) in
-                own.zip(on).zip(off).zip(on_d.iter().zip(off_d))
-            {
-                *d = (a * i32::from(on_d)) as u32 | ((b * i32::from(off_d)) as u32) << 16;
-                *nn = (-a * i32::from(on)) as u16 as u32 | ((-b * i32::from(off)) as u32) << 16;
-            }
-            let (od, on_) = (&own_d[ua..ub], &own_n[ua..ub]);
-            let span = &mut run[ua..=ub];
-            for dir in Direction::ALL {
-                let (sn, sd): (&[u32], &[u32]) = match dir {
-                    Direction::Right => (&now.win[ua + PAD + 1..], &del.win[ua + PAD + 1..]),
-                    Direction::Left => (&now.win[ua + PAD - n..], &del.win[ua + PAD - n..]),
-                    Direction::Down if down => (&now.down[ua..], &del.down[ua..]),
-                    Direction::Up if up => (&now.up[ua..], &del.up[ua..]),
-                    _ => continue,
-                };
-                lm_run(od, on_, sn, sd, nw.shift, span);
-                let seg = |s: usize, e: usize| -> u64 {
-                    match (span.get(s - ua), span.get(e - ua)) {
-                        (Some(&s), Some(&e)) if e >= s => u64::from(e - s),
-                        _ => 0,
-                    }
-                };
-                for ((r, &((x0, x1), (y0, y1))), acc) in
-                    regions.iter().zip(&boxes[..count]).zip(q.iter_mut())
-                {
-                    if !(y0..y1).contains(&y) || x0 >= x1 {
-                        continue;
-                    }
-                    let (cx, cy) = r.centre;
-                    let left = (x0, cx.clamp(x0, x1));
-                    let right = ((cx + 1).clamp(x0, x1), x1);
-                    use core::cmp::Ordering::*;
-                    match (dir, y.cmp(&cy)) {
-                        (_, Equal) => {}
-                        (Direction::Right, Less) => acc[0] += seg(right.0, right.1),
-                        (Direction::Right, Greater) => acc[3] += seg(right.0, right.1),
-                        (Direction::Left, Less) => acc[1] += seg(left.0, left.1),
-                        (Direction::Left, Greater) => acc[2] += seg(left.0, left.1),
-                        (Direction::Up, Less) => {
-                            acc[0] += seg(right.0, right.1);
-                            acc[1] += seg(left.0, left.1);
-                        }
-                        (Direction::Down, Greater) => {
-                            acc[3] += seg(right.0, right.1);
-                            acc[2] += seg(left.0, left.1);
-                        }
-                        _ => {}
-                    }
-                }
+            let span = |k: usize, s: usize, e: usize| u64::from(pre[e][k].wrapping_sub(pre[s][k]));
+            // left: x0..x̄, right: x̄+1..=x1
+            let (l0, l1, r0, r1) = (c[0], c[1], c[2], c[3]);
+            if y < cy {
+                acc[0] += span(0, r0, r1) + span(2, r0, r1);
+                acc[1] += span(1, l0, l1) + span(2, l0, l1);
+            } else {
+                acc[3] += span(0, r0, r1) + span(d_slot, r0, r1);
+                acc[2] += span(1, l0, l1) + span(d_slot, l0, l1);
             }
         }
     }
