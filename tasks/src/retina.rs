@@ -156,6 +156,11 @@ impl Retina {
 
     /// Row `y`'s 3x3 means from the ring (rows outside the retina sum to 0); the old means go
     /// through the delay line first. One pass for both channels.
+    ///
+    /// With the paper's `C_d = 2` (`g = 128`) the delay line runs on four pixels per word
+    /// ([`half_step4`]); any other gain takes [`delay_step`] pixel by pixel. Either way the maps
+    /// are read and written a word (four pixels) at a time, the 3 leftover pixels of a row one
+    /// by one.
     fn finish_row(&mut self, y: usize) {
         const ZERO: [u32; WIDTH] = [0; WIDTH];
         let above = if y == 0 { &ZERO } else { &self.h[(y + 2) % 3] };
@@ -175,17 +180,10 @@ impl Retina {
             return;
         };
         let g = self.delay_q8;
-        let rows = above.iter().zip(mid).zip(below);
-        let maps = on
-            .iter_mut()
-            .zip(off.iter_mut())
-            .zip(on_d.iter_mut().zip(off_d.iter_mut()));
-        for (((&a, &m), &b), ((on, off), (on_d, off_d))) in rows.zip(maps) {
-            let s = a + m + b;
-            *on_d = delay_step(*on_d, *on, g);
-            *off_d = delay_step(*off_d, *off, g);
-            *on = div9(s as u16);
-            *off = div9((s >> 16) as u16);
+        if g == 128 {
+            finish_maps::<true>(above, mid, below, on, off, on_d, off_d, g);
+        } else {
+            finish_maps::<false>(above, mid, below, on, off, on_d, off_d, g);
         }
     }
 
@@ -230,6 +228,93 @@ fn delay_step(d: u8, l: u8, gain_q8: i32) -> u8 {
     let step = (diff * gain_q8 + 128) >> 8;
     let step = if step == 0 { diff.signum() } else { step };
     (i32::from(d) + step) as u8
+}
+
+/// One row of [`Retina::finish_row`]: `on_d ← delay(on_d, on)`, `off_d ← delay(off_d, off)`,
+/// then `on`, `off` ← the 3x3 means `div9(above + mid + below)` of the packed ring rows.
+/// `HALF`: the gain is 128 and the delay runs by [`half_step4`] on whole words.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn finish_maps<const HALF: bool>(
+    above: &[u32; WIDTH],
+    mid: &[u32; WIDTH],
+    below: &[u32; WIDTH],
+    on: &mut [u8],
+    off: &mut [u8],
+    on_d: &mut [u8],
+    off_d: &mut [u8],
+    g: i32,
+) {
+    let (a4, a_t) = above.as_chunks::<4>();
+    let (m4, m_t) = mid.as_chunks::<4>();
+    let (b4, b_t) = below.as_chunks::<4>();
+    let (on4, on_t) = on.as_chunks_mut::<4>();
+    let (off4, off_t) = off.as_chunks_mut::<4>();
+    let (ond4, ond_t) = on_d.as_chunks_mut::<4>();
+    let (offd4, offd_t) = off_d.as_chunks_mut::<4>();
+    let sums = a4.iter().zip(m4).zip(b4);
+    let maps = on4.iter_mut().zip(off4.iter_mut()).zip(ond4.iter_mut().zip(offd4.iter_mut()));
+    for (((a, m), b), ((on, off), (on_d, off_d))) in sums.zip(maps) {
+        if HALF {
+            let l = u32::from_le_bytes(*on);
+            *on_d = half_step4(u32::from_le_bytes(*on_d), l).to_le_bytes();
+            let l = u32::from_le_bytes(*off);
+            *off_d = half_step4(u32::from_le_bytes(*off_d), l).to_le_bytes();
+        } else {
+            for (d, &l) in on_d.iter_mut().zip(on.iter()) {
+                *d = delay_step(*d, l, g);
+            }
+            for (d, &l) in off_d.iter_mut().zip(off.iter()) {
+                *d = delay_step(*d, l, g);
+            }
+        }
+        let (mut won, mut woff) = (0u32, 0u32);
+        for i in 0..4 {
+            let s = a[i] + m[i] + b[i];
+            won |= u32::from(div9(s as u16)) << (8 * i);
+            woff |= u32::from(div9((s >> 16) as u16)) << (8 * i);
+        }
+        *on = won.to_le_bytes();
+        *off = woff.to_le_bytes();
+    }
+    let sums = a_t.iter().zip(m_t).zip(b_t);
+    let maps = on_t
+        .iter_mut()
+        .zip(off_t.iter_mut())
+        .zip(ond_t.iter_mut().zip(offd_t.iter_mut()));
+    for (((&a, &m), &b), ((on, off), (on_d, off_d))) in sums.zip(maps) {
+        let s = a + m + b;
+        *on_d = delay_step(*on_d, *on, g);
+        *off_d = delay_step(*off_d, *off, g);
+        *on = div9(s as u16);
+        *off = div9((s >> 16) as u16);
+    }
+}
+
+/// [`delay_step`] with the paper's gain `g = 128` (`C_d = 2`) on four pixels at once, one per
+/// byte of `d` and `l`.
+///
+/// Why it is the same: with `diff = L − D`, `step = ⌊(128·diff + 128)/256⌋ = ⌊(diff + 1)/2⌋`,
+/// which is `⌈diff/2⌉`, and it is 0 only for `diff ∈ {0, −1}`, where the fix-up makes it
+/// `signum(diff)`. So `D' = D + ⌈(L − D)/2⌉ = ⌈(D + L)/2⌉`, except `D' = L` when `L = D − 1`
+/// (the only pair where `⌈(D + L)/2⌉ = D ≠ L`). Per byte, `⌈(D + L)/2⌉ = (D | L) − ((D ^ L) >> 1)`
+/// (from `D + L = (D ^ L) + 2·(D & L)`), which never borrows across bytes; the exception is
+/// `⌈(D + L)/2⌉ = D` with `L ≠ D`, found with exact per-byte zero tests, and subtracts 1 from
+/// a byte that is `D ≥ 1`. The test `half_step4_is_delay_step_with_gain_128` checks all
+/// 65,536 `(D, L)` pairs in every byte position.
+#[inline(always)]
+fn half_step4(d: u32, l: u32) -> u32 {
+    const LOW7: u32 = 0x7F7F_7F7F;
+    const HIGH: u32 = 0x8080_8080;
+    // 0x80 in each byte of `v` that is 0, else 0 (no carry leaves a byte: (v & 0x7F) + 0x7F ≤ 0xFE)
+    #[inline(always)]
+    fn zero_bytes(v: u32) -> u32 {
+        !(((v & LOW7) + LOW7) | v) & HIGH
+    }
+    let x = d ^ l;
+    let ceil = (d | l) - ((x >> 1) & LOW7);
+    let fix = zero_bytes(ceil ^ d) & !zero_bytes(x);
+    ceil - (fix >> 7)
 }
 
 /// `⌊s / 9⌋` for a 3x3 sum of bytes (`s ≤ 2295`) as a multiply and shift (exact on that range,
@@ -358,6 +443,29 @@ mod tests {
     fn div9_is_exact_floor_on_its_range() {
         for s in 0..=2295u16 {
             assert_eq!(u16::from(div9(s)), s / 9, "s = {s}");
+        }
+    }
+
+    #[test]
+    fn half_step4_is_delay_step_with_gain_128() {
+        for d in 0..=255u8 {
+            for l in 0..=255u8 {
+                let want = delay_step(d, l, 128);
+                // the pair in each byte, the other bytes holding other pairs
+                for k in 0..4 {
+                    let (dw, lw) = ([d, l, 255 - d, l ^ d], [l, d, 255 - l, d]);
+                    let (mut dd, mut ll) = ([0u8; 4], [0u8; 4]);
+                    for i in 0..4 {
+                        dd[(i + k) % 4] = dw[i];
+                        ll[(i + k) % 4] = lw[i];
+                    }
+                    let got = half_step4(u32::from_le_bytes(dd), u32::from_le_bytes(ll)).to_le_bytes();
+                    for i in 0..4 {
+                        assert_eq!(got[i], delay_step(dd[i], ll[i], 128), "d {d} l {l} k {k}");
+                    }
+                    assert_eq!(got[k], want);
+                }
+            }
         }
     }
 
