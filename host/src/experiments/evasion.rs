@@ -269,24 +269,18 @@ pub fn run(
 impl EvasionReport {
     /// `{"alvs":{"angles":9,"correct_side":k,"collisions":c,...},"lgmd2":{...}}`.
     pub fn json(&self) -> serde_json::Value {
-        let mut map = serde_json::Map::new();
-        for c in &self.controllers {
-            map.insert(
-                c.controller.to_string(),
-                serde_json::to_value(c).expect("outcomes serialise"),
-            );
-        }
         let cfg = &self.config;
-        map.insert(
-            "config".into(),
+        super::per_controller_json(
+            self.controllers
+                .iter()
+                .map(|c| (c.controller.to_string(), c)),
             serde_json::json!({
                 "distance_mm": cfg.distance_mm,
                 "speed_mm_s": cfg.speed_mm_s,
                 "seed": cfg.seed,
                 "background": cfg.background,
             }),
-        );
-        serde_json::Value::Object(map)
+        )
     }
 
     /// One line per bearing and controller, then the totals.

@@ -45,3 +45,21 @@ pub fn texture(spec: &str) -> Result<WallTexture> {
     }
     WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
 }
+
+/// The JSON of an experiment: one key per controller (its serialised outcome), plus `config`.
+/// A value that cannot be serialised (never, for these plain structs) becomes `null` rather
+/// than a panic.
+pub fn per_controller_json<'a, T: serde::Serialize + 'a>(
+    outcomes: impl IntoIterator<Item = (String, &'a T)>,
+    config: serde_json::Value,
+) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    for (name, outcome) in outcomes {
+        map.insert(
+            name,
+            serde_json::to_value(outcome).unwrap_or(serde_json::Value::Null),
+        );
+    }
+    map.insert("config".into(), config);
+    serde_json::Value::Object(map)
+}

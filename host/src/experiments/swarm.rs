@@ -267,20 +267,12 @@ fn round1(v: f64) -> f64 {
 impl SwarmReport {
     /// `{"swarm":{...},"alvs":{...}}`: one key per controller.
     pub fn json(&self) -> serde_json::Value {
-        let mut map = serde_json::Map::new();
-        for t in &self.trials {
-            map.insert(
-                t.controller.to_string(),
-                serde_json::to_value(t).expect("trials serialise"),
-            );
-        }
         let c = &self.config;
-        map.insert(
-            "config".into(),
+        super::per_controller_json(
+            self.trials.iter().map(|t| (t.controller.to_string(), t)),
             serde_json::json!({"robots": c.robots, "minutes": c.minutes, "seed": c.seed,
                                "background": c.background}),
-        );
-        serde_json::Value::Object(map)
+        )
     }
 
     /// One line per controller.

@@ -271,16 +271,11 @@ pub fn run(
 impl TwoThreatReport {
     /// `{"alvs":{"runs":..,"away_from_faster":..,"fraction":..,...},"lgmd2":{...}}`.
     pub fn json(&self) -> serde_json::Value {
-        let mut map = serde_json::Map::new();
-        for c in &self.controllers {
-            map.insert(
-                c.controller.to_string(),
-                serde_json::to_value(c).expect("outcomes serialise"),
-            );
-        }
         let cfg = &self.config;
-        map.insert(
-            "config".into(),
+        super::per_controller_json(
+            self.controllers
+                .iter()
+                .map(|c| (c.controller.to_string(), c)),
             serde_json::json!({
                 "runs": cfg.runs,
                 "fast_mm_s": cfg.fast_mm_s,
@@ -288,8 +283,7 @@ impl TwoThreatReport {
                 "seed": cfg.seed,
                 "background": cfg.background,
             }),
-        );
-        serde_json::Value::Object(map)
+        )
     }
 
     /// One line per controller.
