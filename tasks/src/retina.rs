@@ -253,7 +253,10 @@ fn finish_maps<const HALF: bool>(
     let (ond4, ond_t) = on_d.as_chunks_mut::<4>();
     let (offd4, offd_t) = off_d.as_chunks_mut::<4>();
     let sums = a4.iter().zip(m4).zip(b4);
-    let maps = on4.iter_mut().zip(off4.iter_mut()).zip(ond4.iter_mut().zip(offd4.iter_mut()));
+    let maps = on4
+        .iter_mut()
+        .zip(off4.iter_mut())
+        .zip(ond4.iter_mut().zip(offd4.iter_mut()));
     for (((a, m), b), ((on, off), (on_d, off_d))) in sums.zip(maps) {
         if HALF {
             let l = u32::from_le_bytes(*on);
@@ -459,7 +462,8 @@ mod tests {
                         dd[(i + k) % 4] = dw[i];
                         ll[(i + k) % 4] = lw[i];
                     }
-                    let got = half_step4(u32::from_le_bytes(dd), u32::from_le_bytes(ll)).to_le_bytes();
+                    let got =
+                        half_step4(u32::from_le_bytes(dd), u32::from_le_bytes(ll)).to_le_bytes();
                     for i in 0..4 {
                         assert_eq!(got[i], delay_step(dd[i], ll[i], 128), "d {d} l {l} k {k}");
                     }
