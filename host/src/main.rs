@@ -601,7 +601,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
     let jobs = match a.jobs {
         Some(0) => anyhow::bail!("--jobs must be at least 1"),
         Some(j) => j,
-        None => arena::default_jobs(),
+        None => parallel::default_jobs(),
     };
     config.validate()?;
     // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).

@@ -31,13 +31,13 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use alvs_tasks::Params;
 use anyhow::{bail, ensure, Context, Result};
 use serde::Serialize;
 
+use super::parallel::default_jobs;
 use crate::arena::contacts::{
     EPISODE_HYSTERESIS_MM, ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM,
 };
@@ -445,11 +445,6 @@ pub struct ArenaReport {
     pub jobs: usize,
 }
 
-/// The number of worker threads when none is asked for: the available parallelism.
-pub fn default_jobs() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
-}
-
 /// Total camera frames (per robot) a run of `config` simulates, for a progress bar; 0 if the
 /// configuration is invalid.
 pub fn total_frames(config: &ArenaConfig) -> u64 {
@@ -479,31 +474,10 @@ pub fn run(
         .flat_map(|&k| (0..prep.backgrounds.len()).map(move |b| (k, b)))
         .collect();
     let jobs = if jobs == 0 { default_jobs() } else { jobs }.clamp(1, plan.len());
-    let next = AtomicUsize::new(0);
-    let mut done: Vec<(usize, Trial)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..jobs)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&(kind, b)) = plan.get(i) else { break };
-                        mine.push((i, run_trial(config, &prep, kind, b, progress)));
-                    }
-                    mine
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| match w.join() {
-                Ok(v) => v,
-                Err(panic) => std::panic::resume_unwind(panic),
-            })
-            .collect()
+    let trials: Vec<Trial> = super::parallel::map(plan.len(), jobs, |i| {
+        let (kind, b) = plan[i];
+        run_trial(config, &prep, kind, b, progress)
     });
-    done.sort_by_key(|(i, _)| *i);
-    let trials: Vec<Trial> = done.into_iter().map(|(_, t)| t).collect();
     let summaries = prep
         .controllers
         .iter()
