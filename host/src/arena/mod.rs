@@ -41,3 +41,21 @@ pub use rng::Rng;
 pub use sim::Sim;
 pub use topdown::TopDown;
 pub use world::{Arena, GreyImage, Pose, RobotPattern, WallTexture, World};
+
+/// A robot's motors, gyro and camera noise: realistic (default motor lag and noise, default
+/// gyro drift, [`SensorNoise::typical`]) or, with `realistic` false, ideal.
+pub fn robot_noise(realistic: bool) -> (MotorParams, GyroParams, SensorNoise) {
+    if realistic {
+        (
+            MotorParams::default(),
+            GyroParams::default(),
+            SensorNoise::typical(),
+        )
+    } else {
+        (
+            MotorParams::ideal(),
+            GyroParams::ideal(),
+            SensorNoise::default(),
+        )
+    }
+}

@@ -178,19 +178,7 @@ impl ArenaConfig {
         }
         let arena = World::default().arena;
         let starts = start_poses(&arena, self.robots, self.seed)?;
-        let (motor, gyro, noise) = if self.noise {
-            (
-                MotorParams::default(),
-                GyroParams::default(),
-                SensorNoise::typical(),
-            )
-        } else {
-            (
-                MotorParams::ideal(),
-                GyroParams::ideal(),
-                SensorNoise::default(),
-            )
-        };
+        let (motor, gyro, noise) = crate::arena::robot_noise(self.noise);
         let root = Rng::new(self.seed).fork(CONTROLLER_STREAM);
         let controller_seeds = (0..self.robots as u64)
             .map(|i| root.fork(i).next_u64())

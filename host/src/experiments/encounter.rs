@@ -183,19 +183,7 @@ pub fn frames_of(threats: &[Threat]) -> u64 {
 pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
     let world = World::with_texture(e.texture.clone());
     let mut sim = Sim::new(&world, e.seed);
-    let (motor, gyro, noise) = if e.noise {
-        (
-            MotorParams::default(),
-            GyroParams::default(),
-            SensorNoise::typical(),
-        )
-    } else {
-        (
-            MotorParams::ideal(),
-            GyroParams::ideal(),
-            SensorNoise::default(),
-        )
-    };
+    let (motor, gyro, noise) = crate::arena::robot_noise(e.noise);
     let start = tested_start();
     let controller_seed = Rng::new(e.seed).fork(CONTROLLER_STREAM).next_u64();
     let tested = HoldUntilAlert::new(e.kind.make(e.params, controller_seed));
