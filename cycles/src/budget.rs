@@ -31,33 +31,61 @@ pub const STAGE_NAMES: [&str; STAMPS - 1] =
 const TARGET: &str = "thumbv7em-none-eabihf";
 const PAINT: u32 = 0xDEAD_BEEF;
 
+/// Why the firmware ELF is not there.
+#[derive(Debug)]
+pub enum BuildError {
+    /// The thumbv7em target is not installed (tests that need the ELF skip, saying so).
+    TargetMissing,
+    /// rustc or cargo could not run, or the firmware does not build.
+    Failed(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BuildError::TargetMissing => write!(
+                f,
+                "the {TARGET} target is not installed: rustup target add {TARGET}"
+            ),
+            BuildError::Failed(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for BuildError {}
+
+impl From<BuildError> for String {
+    fn from(e: BuildError) -> String {
+        e.to_string()
+    }
+}
+
 /// Builds the firmware with its release profile (a no-op when up to date) and returns the
 /// ELF's path. `root` is the workspace root (its `.cargo/config.toml` sets target and flags).
-pub fn build_firmware(root: &Path) -> Result<PathBuf, String> {
+pub fn build_firmware(root: &Path) -> Result<PathBuf, BuildError> {
     let sysroot = Command::new("rustc")
         .args(["--print", "sysroot"])
         .current_dir(root)
         .output()
-        .map_err(|e| format!("rustc: {e}"))?;
+        .map_err(|e| BuildError::Failed(format!("rustc: {e}")))?;
     let sysroot = String::from_utf8_lossy(&sysroot.stdout).trim().to_owned();
     if !Path::new(&sysroot)
         .join("lib/rustlib")
         .join(TARGET)
         .exists()
     {
-        return Err(format!(
-            "the {TARGET} target is not installed: rustup target add {TARGET}"
-        ));
+        return Err(BuildError::TargetMissing);
     }
+    // Run from the root so its .cargo/config.toml (target, linker script, target-cpu) applies.
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let status = Command::new(cargo)
         .args(["build", "--release", "--quiet", "--manifest-path"])
         .arg(root.join("Cargo.toml"))
         .current_dir(root)
         .status()
-        .map_err(|e| format!("cargo: {e}"))?;
+        .map_err(|e| BuildError::Failed(format!("cargo: {e}")))?;
     if !status.success() {
-        return Err("the firmware does not build".into());
+        return Err(BuildError::Failed("the firmware does not build".into()));
     }
     let target_dir =
         std::env::var_os("CARGO_TARGET_DIR").map_or(root.join("target"), PathBuf::from);

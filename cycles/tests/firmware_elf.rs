@@ -2,11 +2,9 @@
 //! robot gets it): symbols, the loaded image and the static RAM report. Reset is not run.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+use alvs_cycles::budget::{build_firmware, BuildError};
 use alvs_cycles::{memory, Machine, RamReport};
-
-const TARGET: &str = "thumbv7em-none-eabihf";
 
 /// Builds the firmware (a no-op when it is up to date) and returns its ELF, or `None` when the
 /// thumbv7em target is not installed.
@@ -14,34 +12,17 @@ fn firmware_elf() -> Option<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .expect("workspace root");
-    let sysroot = Command::new("rustc")
-        .args(["--print", "sysroot"])
-        .current_dir(root)
-        .output()
-        .expect("rustc runs");
-    let sysroot = String::from_utf8_lossy(&sysroot.stdout).trim().to_owned();
-    if !Path::new(&sysroot)
-        .join("lib/rustlib")
-        .join(TARGET)
-        .exists()
-    {
-        println!(
-            "SKIPPED: the {TARGET} target is not installed (rustup target add {TARGET}); \
-             the firmware ELF cannot be built"
-        );
-        return None;
+    match build_firmware(root) {
+        Ok(path) => Some(path),
+        Err(BuildError::TargetMissing) => {
+            println!(
+                "SKIPPED: {}; the firmware ELF cannot be built",
+                BuildError::TargetMissing
+            );
+            None
+        }
+        Err(e) => panic!("{e}"),
     }
-    // Run from the root so its .cargo/config.toml (target, linker script, target-cpu) applies.
-    let status = Command::new(env!("CARGO"))
-        .args(["build", "--release", "--quiet", "--manifest-path"])
-        .arg(root.join("Cargo.toml"))
-        .current_dir(root)
-        .status()
-        .expect("cargo runs");
-    assert!(status.success(), "the firmware does not build");
-    let target_dir =
-        std::env::var_os("CARGO_TARGET_DIR").map_or(root.join("target"), PathBuf::from);
-    Some(target_dir.join(TARGET).join("release/alvs-firmware"))
 }
 
 #[test]
