@@ -4,6 +4,7 @@
 
 use alvs_host::arena::controller::{Scripted, Stationary};
 use alvs_host::arena::*;
+use alvs_tasks::fsm::FsmParams;
 use alvs_tasks::Params;
 
 fn quiet() -> (MotorParams, GyroParams, SensorNoise) {
@@ -28,7 +29,7 @@ fn three_robot_run(kind: Kind, seed: u64, frames: usize) -> (Vec<Pose>, ContactC
     {
         sim.add(
             Pose::new(c.0 + dx, c.1 + dy, h),
-            kind.make(Params::default(), seed + k as u64),
+            kind.make(Params::default(), FsmParams::default(), seed + k as u64),
             MotorParams::default(),
             GyroParams::default(),
             SensorNoise::typical(),
@@ -57,7 +58,11 @@ fn a_stationary_observer_alerts_on_a_robot_driving_at_it() {
     let mut sim = Sim::new(&world, 1);
     let (m, g, n) = quiet();
     let c = world.arena.centre();
-    let observer = Box::new(Stationary(Kind::Alvs.make(Params::default(), 0)));
+    let observer = Box::new(Stationary(Kind::Alvs.make(
+        Params::default(),
+        FsmParams::default(),
+        0,
+    )));
     sim.add(Pose::new(c.0 - 250.0, c.1, 0.0), observer, m, g, n);
     // the obstacle faces the observer and drives at 100 mm/s
     let obstacle = Box::new(Scripted {
@@ -95,7 +100,7 @@ fn alvs_turns_away_from_a_robot_approaching_from_its_right() {
     // ALVS robot facing +x; obstacle ahead-right (bearing ≈ +25°), driving at it
     sim.add(
         Pose::new(c.0 - 200.0, c.1, 0.0),
-        Kind::Alvs.make(Params::default(), 0),
+        Kind::Alvs.make(Params::default(), FsmParams::default(), 0),
         m,
         g,
         n,

@@ -3,7 +3,8 @@
 //! loop with odometry, the quiet period, the takeoff timeout and robustness to bad input.
 
 use alvs_tasks::fsm::{
-    Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase, State,
+    Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
+    State,
 };
 use alvs_tasks::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
@@ -767,7 +768,7 @@ proptest! {
     #[test]
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 10),
-        counts in proptest::collection::vec(any::<u32>(), 4),
+        counts in proptest::collection::vec(any::<u32>(), 6),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
@@ -785,6 +786,8 @@ proptest! {
             takeoff_timeout_frames: counts[2],
             spin_frames: counts[3],
             saccade_yaw_deg_s: vals[9],
+            settle_frames: counts[4],
+            alert_frames: counts[5],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {
@@ -820,4 +823,91 @@ fn perception_is_ignored_while_the_robot_turns_fast() {
         State::ShortTakeoff,
         "a fierce stimulus still interrupts"
     );
+}
+
+#[test]
+fn the_settle_period_extends_the_suppression_after_a_fast_turn() {
+    let p = FsmParams {
+        settle_frames: 3,
+        ..FsmParams::default()
+    };
+    let mut f = Fsm::new(p, Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    let c = f.step(&long(RIGHT_X), 0.0);
+    assert_eq!(c.state, State::LongTakeoff);
+    // the turn slows below 45 °/s close to the set-point ...
+    let sp = c.heading_setpoint_deg;
+    f.step(&quiet(), sp + 5.0);
+    // ... but for 3 more frames a fierce stimulus is taken for the turn's after-image
+    for k in 0..3 {
+        assert!(f.suppressed(), "settle frame {k}");
+        let c = f.step(&short(LEFT_X), sp + 4.0);
+        assert_ne!(c.state, State::ShortTakeoff, "settle frame {k}");
+    }
+    assert!(!f.suppressed());
+    let c = f.step(&short(LEFT_X), sp + 4.0);
+    assert_eq!(c.state, State::ShortTakeoff);
+}
+
+#[test]
+fn alert_frames_ask_for_consecutive_alerts() {
+    let p = FsmParams {
+        alert_frames: 2,
+        ..FsmParams::default()
+    };
+    let mut f = Fsm::new(p, Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    // a single alert frame, then a quiet one: nothing happens
+    assert_eq!(f.step(&long(RIGHT_X), 0.0).state, State::Wander);
+    assert_eq!(f.step(&quiet(), 0.0).state, State::Wander);
+    // two in a row: the second one acts
+    assert_eq!(f.step(&long(RIGHT_X), 0.0).state, State::Wander);
+    assert_eq!(f.step(&long(RIGHT_X), 0.0).state, State::LongTakeoff);
+    // the short mode waits for its second frame as well
+    let mut f = Fsm::new(p, Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    assert_eq!(f.step(&short(LEFT_X), 0.0).state, State::Wander);
+    assert_eq!(f.step(&short(LEFT_X), 0.0).state, State::ShortTakeoff);
+    // 0 behaves as 1
+    let mut f = Fsm::new(
+        FsmParams {
+            alert_frames: 0,
+            ..FsmParams::default()
+        },
+        Behaviour::Escape,
+    );
+    f.step(&quiet(), 0.0);
+    assert_eq!(f.step(&quiet(), 0.0).state, State::Wander);
+    assert_eq!(f.step(&long(RIGHT_X), 0.0).state, State::LongTakeoff);
+}
+
+#[test]
+fn fsm_parameters_are_set_by_name_with_checked_values() {
+    let mut p = FsmParams::default();
+    assert_eq!(p.set("settle_frames", "4"), Ok(()));
+    assert_eq!(p.set("heading_gain", " 8.5 "), Ok(()));
+    assert_eq!(p.set("saccade_yaw_deg_s", "inf"), Ok(()));
+    assert_eq!((p.settle_frames, p.heading_gain), (4, 8.5));
+    assert_eq!(p.saccade_yaw_deg_s, f32::INFINITY);
+    assert_eq!(p.set("warp", "1"), Err(FsmParamError::Unknown));
+    for (name, bad) in [
+        ("heading_gain", "-1"),
+        ("heading_gain", "inf"),
+        ("cruise_mm_s", "NaN"),
+        ("settle_frames", "1.5"),
+        ("alert_frames", "-2"),
+    ] {
+        assert_eq!(
+            p.set(name, bad),
+            Err(FsmParamError::Invalid { name }),
+            "{name}={bad}"
+        );
+    }
+    // refused values leave the parameters as they were
+    assert_eq!((p.settle_frames, p.heading_gain), (4, 8.5));
+    assert!(FsmParamError::Unknown.to_string().contains("settle_frames"));
+    // every name is accepted
+    for name in FsmParams::NAMES {
+        assert_eq!(FsmParams::default().set(name, "1"), Ok(()), "{name}");
+    }
 }

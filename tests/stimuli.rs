@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use alvs_host::clip;
 use alvs_host::replay::{FrameJson, Pipeline};
-use alvs_tasks::fsm::Behaviour;
+use alvs_tasks::fsm::{Behaviour, FsmParams};
 use alvs_tasks::Params;
 
 fn stimuli_dir() -> Option<PathBuf> {
@@ -44,7 +44,8 @@ fn run_all() -> Option<Vec<Run>> {
         let (name, category, looming) = (cols[0], cols[3], cols[4] == "yes");
         let frames = clip::load(&dir.join(format!("{name}.y8")), 99, 72).expect("clip");
         assert_eq!(frames.len().to_string(), cols[1], "{name}: frame count");
-        let mut pipe = Pipeline::new(Params::default(), Behaviour::Escape).unwrap();
+        let mut pipe =
+            Pipeline::new(Params::default(), FsmParams::default(), Behaviour::Escape).unwrap();
         let mut recs = Vec::new();
         let mut max_afs = 0;
         for f in &frames {

@@ -9,7 +9,7 @@ use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats};
 use alvs_host::{clip, replay, scenes};
-use alvs_tasks::fsm::Behaviour;
+use alvs_tasks::fsm::{Behaviour, FsmParams};
 use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -102,6 +102,12 @@ struct CommonArgs {
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
+    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
+    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    #[arg(long = "fsm", value_name = "NAME=VALUE")]
+    fsm: Vec<String>,
 }
 
 impl CommonArgs {
@@ -253,6 +259,12 @@ struct ArenaArgs {
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
+    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
+    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    #[arg(long = "fsm", value_name = "NAME=VALUE")]
+    fsm: Vec<String>,
 }
 
 #[derive(clap::Args)]
@@ -261,6 +273,12 @@ struct ModelArgs {
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
+    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
+    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    #[arg(long = "fsm", value_name = "NAME=VALUE")]
+    fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).
     #[arg(long, value_enum, default_value_t = Mode::Escape)]
     mode: Mode,
@@ -305,9 +323,26 @@ fn parse_params(overrides: &[String]) -> Result<Params> {
     Ok(p)
 }
 
+/// The motion parameters with `--fsm NAME=VALUE` overrides applied.
+fn parse_fsm(overrides: &[String]) -> Result<FsmParams> {
+    let mut p = FsmParams::default();
+    for kv in overrides {
+        let (k, v) = kv
+            .split_once('=')
+            .with_context(|| format!("--fsm {kv}: expected NAME=VALUE"))?;
+        p.set(k.trim(), v)
+            .map_err(|e| anyhow::anyhow!("--fsm {kv}: {e}"))?;
+    }
+    Ok(p)
+}
+
 impl ModelArgs {
     fn params(&self) -> Result<Params> {
         parse_params(&self.params)
+    }
+
+    fn fsm(&self) -> Result<FsmParams> {
+        parse_fsm(&self.fsm)
     }
 
     fn behaviour(&self) -> Behaviour {
@@ -378,12 +413,19 @@ fn run(cli: Cli) -> Result<()> {
                 .png
                 .as_deref()
                 .map(|d| (d, a.frames.as_slice(), name.as_str()));
-            replay::run(&frames, params, a.model.behaviour(), png, |j| {
-                let mut line = serde_json::to_vec(j)?;
-                line.push(b'\n');
-                out.write_all(&line)?;
-                Ok(())
-            })?;
+            replay::run(
+                &frames,
+                params,
+                a.model.fsm()?,
+                a.model.behaviour(),
+                png,
+                |j| {
+                    let mut line = serde_json::to_vec(j)?;
+                    line.push(b'\n');
+                    out.write_all(&line)?;
+                    Ok(())
+                },
+            )?;
             out.flush()?;
             if let Some(d) = &a.png {
                 eprintln!("pictures in {}", d.display());
@@ -403,6 +445,7 @@ fn run(cli: Cli) -> Result<()> {
                 let recs = replay::run(
                     &frames,
                     params,
+                    model.fsm()?,
                     model.behaviour(),
                     Some((&png, &[], s.name)),
                     |_| Ok(()),
@@ -514,6 +557,7 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
     let config = stimuli::StimuliConfig {
         seed: a.common.seed,
         params: parse_params(&a.common.params)?,
+        fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
     };
     let r = stimuli::run(&config, a.common.jobs()?)?;
@@ -529,6 +573,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
         params: parse_params(&a.common.params)?,
+        fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
         ..evasion::EvasionConfig::default()
     };
@@ -550,6 +595,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
         params: parse_params(&a.common.params)?,
+        fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
     };
     config.validate()?;
@@ -569,6 +615,7 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Swarm, Kind::Alvs]),
         seed: a.common.seed,
         params: parse_params(&a.common.params)?,
+        fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
     };
     let bar = progress_bar("swarm", config.total_frames());
@@ -596,6 +643,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         },
         seed: a.seed,
         params: parse_params(&a.params)?,
+        fsm: parse_fsm(&a.fsm)?,
         ..ArenaConfig::default()
     };
     let jobs = match a.jobs {

@@ -57,10 +57,9 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// A fresh pipeline.
-    pub fn new(params: Params, behaviour: Behaviour) -> Result<Self> {
+    /// A fresh pipeline: the model with `params`, the FSM with `fp` and `behaviour`.
+    pub fn new(params: Params, fp: FsmParams, behaviour: Behaviour) -> Result<Self> {
         let net = Network::new(params).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let fp = FsmParams::default();
         Ok(Pipeline {
             net,
             fsm: Fsm::new(fp, behaviour),
@@ -229,11 +228,12 @@ pub fn chosen_frames(asked: &[u32], records: &[FrameJson]) -> Vec<u32> {
 pub fn run(
     frames: &[Frame],
     params: Params,
+    fsm: FsmParams,
     behaviour: Behaviour,
     png: Option<(&Path, &[u32], &str)>,
     mut emit: impl FnMut(&FrameJson) -> Result<()>,
 ) -> Result<Vec<FrameJson>> {
-    let mut pipe = Pipeline::new(params, behaviour)?;
+    let mut pipe = Pipeline::new(params, fsm, behaviour)?;
     let mut records = Vec::with_capacity(frames.len());
     for f in frames {
         let (out, json) = pipe.step(f);
@@ -247,7 +247,7 @@ pub fn run(
         let jsons: Vec<FrameJson> = records.iter().map(|r| r.0.clone()).collect();
         let wanted = chosen_frames(asked, &jsons);
         // a second pass re-creates the network state at the chosen frames (deterministic)
-        let mut pipe = Pipeline::new(params, behaviour)?;
+        let mut pipe = Pipeline::new(params, fsm, behaviour)?;
         for (i, f) in frames.iter().enumerate() {
             let (out, _) = pipe.step(f);
             if wanted.contains(&(i as u32)) {

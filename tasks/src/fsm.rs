@@ -122,6 +122,13 @@ pub struct FsmParams {
     /// quadrant fires, with a threat centroid made of self-motion. Flies suppress visual
     /// responses during their own saccades for the same reason. `f32::INFINITY` disables it.
     pub saccade_yaw_deg_s: f32,
+    /// Frames of perception also ignored after a fast turn has slowed below
+    /// `saccade_yaw_deg_s`: the network still holds the turn in its delay line (`C_d`) and
+    /// its fields' LPLC2 history, so the first frames after a saccade report self-motion.
+    pub settle_frames: u32,
+    /// Consecutive alert frames before the FSM acts on an alert or on the short mode. 1 acts
+    /// on a single frame; the paper's firmware waits for 3 frames above its threshold.
+    pub alert_frames: u32,
 }
 
 impl Default for FsmParams {
@@ -141,6 +148,103 @@ impl Default for FsmParams {
             spin_frames: 30,
             spin_deg_s: 360.0,
             saccade_yaw_deg_s: 45.0,
+            settle_frames: 0,
+            alert_frames: 1,
+        }
+    }
+}
+
+impl FsmParams {
+    /// Names accepted by [`FsmParams::set`], in declaration order.
+    pub const NAMES: [&'static str; 16] = [
+        "cruise_mm_s",
+        "max_escape_mm_s",
+        "retreat_mm_s",
+        "max_wheel_mm_s",
+        "track_mm",
+        "heading_gain",
+        "max_yaw_deg_s",
+        "align_tol_deg",
+        "min_escape_frames",
+        "quiet_frames",
+        "takeoff_timeout_frames",
+        "spin_frames",
+        "spin_deg_s",
+        "saccade_yaw_deg_s",
+        "settle_frames",
+        "alert_frames",
+    ];
+
+    /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
+    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression);
+    /// counts are whole frames. A refused value leaves the parameters unchanged.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
+        let v = value.trim();
+        let name: &'static str = FsmParams::NAMES
+            .into_iter()
+            .find(|n| *n == name)
+            .ok_or(FsmParamError::Unknown)?;
+        let real = |allow_inf: bool| -> Result<f32, FsmParamError> {
+            match v.parse::<f32>() {
+                Ok(x) if x >= 0.0 && (x.is_finite() || (allow_inf && x == f32::INFINITY)) => Ok(x),
+                _ => Err(FsmParamError::Invalid { name }),
+            }
+        };
+        let count = || {
+            v.parse::<u32>()
+                .map_err(|_| FsmParamError::Invalid { name })
+        };
+        let p = self;
+        match name {
+            "cruise_mm_s" => p.cruise_mm_s = real(false)?,
+            "max_escape_mm_s" => p.max_escape_mm_s = real(false)?,
+            "retreat_mm_s" => p.retreat_mm_s = real(false)?,
+            "max_wheel_mm_s" => p.max_wheel_mm_s = real(false)?,
+            "track_mm" => p.track_mm = real(false)?,
+            "heading_gain" => p.heading_gain = real(false)?,
+            "max_yaw_deg_s" => p.max_yaw_deg_s = real(false)?,
+            "align_tol_deg" => p.align_tol_deg = real(false)?,
+            "min_escape_frames" => p.min_escape_frames = count()?,
+            "quiet_frames" => p.quiet_frames = count()?,
+            "takeoff_timeout_frames" => p.takeoff_timeout_frames = count()?,
+            "spin_frames" => p.spin_frames = count()?,
+            "spin_deg_s" => p.spin_deg_s = real(false)?,
+            "saccade_yaw_deg_s" => p.saccade_yaw_deg_s = real(true)?,
+            "settle_frames" => p.settle_frames = count()?,
+            _ => p.alert_frames = count()?,
+        }
+        Ok(())
+    }
+}
+
+/// Why [`FsmParams::set`] refused a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FsmParamError {
+    /// No FSM parameter has that name (see [`FsmParams::NAMES`]).
+    Unknown,
+    /// Not a non-negative number (reals) or a whole number of frames (counts).
+    Invalid {
+        /// Parameter name.
+        name: &'static str,
+    },
+}
+
+impl core::fmt::Display for FsmParamError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FsmParamError::Unknown => {
+                f.write_str("unknown FSM parameter (known: ")?;
+                for (i, n) in FsmParams::NAMES.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(", ")?;
+                    }
+                    f.write_str(n)?;
+                }
+                f.write_str(")")
+            }
+            FsmParamError::Invalid { name } => {
+                write!(f, "FSM parameter {name}: not a valid non-negative value")
+            }
         }
     }
 }
@@ -226,6 +330,10 @@ pub struct Fsm {
     quiet: u32,
     /// |yaw rate| commanded on the previous frame, °/s (the efference copy).
     last_yaw_deg_s: f32,
+    /// Frames of the settle period left after a fast turn.
+    settle: u32,
+    /// Consecutive unsuppressed frames with an alert.
+    alert_run: u32,
 }
 
 impl Fsm {
@@ -243,6 +351,8 @@ impl Fsm {
             frames: 0,
             quiet: 0,
             last_yaw_deg_s: 0.0,
+            settle: 0,
+            alert_run: 0,
         }
     }
 
@@ -280,14 +390,26 @@ impl Fsm {
         if !self.latched {
             self.enter_wander(h);
         }
-        let suppressed;
-        let vm = if self.last_yaw_deg_s > self.params.saccade_yaw_deg_s {
-            suppressed = Visuomotor {
+        let ignored = self.suppressed();
+        if self.last_yaw_deg_s > self.params.saccade_yaw_deg_s {
+            self.settle = self.params.settle_frames;
+        } else {
+            self.settle = self.settle.saturating_sub(1);
+        }
+        self.alert_run = if vm.alert && !ignored {
+            self.alert_run.saturating_add(1)
+        } else {
+            0
+        };
+        let acts = self.alert_run >= self.params.alert_frames.max(1);
+        let gated;
+        let vm = if !acts {
+            gated = Visuomotor {
                 alert: false,
                 short_mode: false,
                 ..*vm
             };
-            &suppressed
+            &gated
         } else {
             vm
         };
@@ -298,9 +420,10 @@ impl Fsm {
         self.output(h)
     }
 
-    /// Whether the next frame's perception will be ignored (the robot is turning fast).
+    /// Whether the next frame's perception will be ignored (the robot is turning fast, or
+    /// settling after a fast turn).
     pub fn suppressed(&self) -> bool {
-        self.last_yaw_deg_s > self.params.saccade_yaw_deg_s
+        self.last_yaw_deg_s > self.params.saccade_yaw_deg_s || self.settle > 0
     }
 
     fn enter_wander(&mut self, h: f32) {

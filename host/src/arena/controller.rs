@@ -56,12 +56,14 @@ impl Kind {
         }
     }
 
-    /// A fresh controller of this kind; `seed` feeds the LGMD2 escape's random turns.
-    pub fn make(self, params: Params, seed: u64) -> Box<dyn Controller> {
+    /// A fresh controller of this kind with the model parameters `params` (ALVS) and the
+    /// motion parameters `fsm` (all kinds: LGMD2's escape uses the same speeds and timings);
+    /// `seed` feeds the LGMD2 escape's random turns.
+    pub fn make(self, params: Params, fsm: FsmParams, seed: u64) -> Box<dyn Controller> {
         match self {
-            Kind::Alvs => Box::new(AlvsController::new(params, Behaviour::Escape)),
-            Kind::Swarm => Box::new(AlvsController::new(params, Behaviour::Swarm)),
-            Kind::Lgmd2 => Box::new(Lgmd2Controller::new(Lgmd2Params::default(), seed)),
+            Kind::Alvs => Box::new(AlvsController::new(params, fsm, Behaviour::Escape)),
+            Kind::Swarm => Box::new(AlvsController::new(params, fsm, Behaviour::Swarm)),
+            Kind::Lgmd2 => Box::new(Lgmd2Controller::new(Lgmd2Params::default(), fsm, seed)),
         }
     }
 }
@@ -75,12 +77,12 @@ pub struct AlvsController {
 
 impl AlvsController {
     /// With the given model parameters (validated by the caller: `Params::validate`).
-    pub fn new(params: Params, behaviour: Behaviour) -> Self {
+    pub fn new(params: Params, fsm: FsmParams, behaviour: Behaviour) -> Self {
         AlvsController {
             net: Network::new(params).unwrap_or_else(|_| {
                 Network::new(Params::default()).expect("the paper's defaults are valid")
             }),
-            fsm: Fsm::new(FsmParams::default(), behaviour),
+            fsm: Fsm::new(fsm, behaviour),
             swarm: behaviour == Behaviour::Swarm,
         }
     }
@@ -131,12 +133,12 @@ pub const LGMD2_TURN_MIN_DEG: f32 = 60.0;
 pub const LGMD2_TURN_MAX_DEG: f32 = 180.0;
 
 impl Lgmd2Controller {
-    /// With LGMD2 parameters and a seed for the random turns.
-    pub fn new(params: Lgmd2Params, seed: u64) -> Self {
+    /// With LGMD2 parameters, the escape's motion parameters and a seed for the random turns.
+    pub fn new(params: Lgmd2Params, fsm: FsmParams, seed: u64) -> Self {
         Lgmd2Controller {
             model: Lgmd2::new(params),
             rng: Rng::new(seed),
-            params: FsmParams::default(),
+            params: fsm,
             state: State::Wander,
             setpoint_deg: f32::NAN,
             frames_in_state: 0,

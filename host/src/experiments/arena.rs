@@ -102,6 +102,8 @@ pub struct ArenaConfig {
     pub seed: u64,
     /// ALVS model parameters (ALVS and swarm).
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Realistic sensors and motors ([`SensorNoise::typical`], default motor lag and noise,
     /// default gyro); `false` gives ideal ones.
     pub noise: bool,
@@ -117,6 +119,7 @@ impl Default for ArenaConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
+            fsm: alvs_tasks::fsm::FsmParams::default(),
             noise: true,
         }
     }
@@ -501,7 +504,7 @@ fn run_trial(
     for (pose, &seed) in prep.starts.iter().zip(&prep.controller_seeds) {
         sim.add(
             *pose,
-            kind.make(config.params, seed),
+            kind.make(config.params, config.fsm, seed),
             prep.motor,
             prep.gyro,
             prep.noise,

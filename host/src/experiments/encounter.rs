@@ -121,6 +121,8 @@ pub struct Encounter {
     pub seed: u64,
     /// ALVS model parameters.
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Wall texture.
     pub texture: WallTexture,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
@@ -186,7 +188,7 @@ pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
     let (motor, gyro, noise) = crate::arena::robot_noise(e.noise);
     let start = tested_start();
     let controller_seed = Rng::new(e.seed).fork(CONTROLLER_STREAM).next_u64();
-    let tested = HoldUntilAlert::new(e.kind.make(e.params, controller_seed));
+    let tested = HoldUntilAlert::new(e.kind.make(e.params, e.fsm, controller_seed));
     sim.add(start, Box::new(tested), motor, gyro, noise);
     for t in &e.threats {
         let obstacle = Approach {

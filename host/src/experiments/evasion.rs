@@ -45,6 +45,8 @@ pub struct EvasionConfig {
     pub seed: u64,
     /// ALVS model parameters.
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -58,6 +60,7 @@ impl Default for EvasionConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
+            fsm: alvs_tasks::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }
@@ -234,6 +237,7 @@ pub fn run(
                 .fork((i % bearings.len()) as u64)
                 .next_u64(),
             params: config.params,
+            fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
         };

@@ -141,6 +141,8 @@ pub struct StimuliConfig {
     pub seed: u64,
     /// ALVS model parameters.
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -150,6 +152,7 @@ impl Default for StimuliConfig {
         StimuliConfig {
             seed: 1,
             params: Params::default(),
+            fsm: alvs_tasks::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }
@@ -241,7 +244,7 @@ fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Re
     let me = observer();
     // The observer must see (a blind scripted robot's frame is not rendered); its own copy of
     // the model runs beside the one recorded here, and its wheels stay still.
-    let stand = Stationary(Kind::Alvs.make(config.params, 0));
+    let stand = Stationary(Kind::Alvs.make(config.params, config.fsm, 0));
     sim.add(
         me,
         Box::new(stand),
@@ -265,7 +268,7 @@ fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Re
             SensorNoise::default(),
         );
     }
-    let mut pipe = Pipeline::new(config.params, Behaviour::Escape)?;
+    let mut pipe = Pipeline::new(config.params, config.fsm, Behaviour::Escape)?;
     let mut observed: Vec<Frame> = Vec::with_capacity(scene.frames as usize);
     let mut tracks: Vec<Track> = Vec::new();
     let mut object_columns = vec![Vec::new(); scene.movers.len()];
@@ -419,6 +422,7 @@ impl StimuliReport {
             replay::run(
                 &s.observed,
                 self.config.params,
+                self.config.fsm,
                 Behaviour::Escape,
                 Some((dir, &[], s.name)),
                 |_| Ok(()),

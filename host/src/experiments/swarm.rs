@@ -47,6 +47,8 @@ pub struct SwarmConfig {
     pub seed: u64,
     /// ALVS model parameters.
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -60,6 +62,7 @@ impl Default for SwarmConfig {
             controllers: vec![Kind::Swarm, Kind::Alvs],
             seed: 1,
             params: Params::default(),
+            fsm: alvs_tasks::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }
@@ -187,7 +190,7 @@ pub fn run(
         for (i, p) in starts.iter().enumerate() {
             sim.add(
                 *p,
-                kind.make(config.params, root.fork(i as u64).next_u64()),
+                kind.make(config.params, config.fsm, root.fork(i as u64).next_u64()),
                 MotorParams::default(),
                 GyroParams::default(),
                 SensorNoise::typical(),

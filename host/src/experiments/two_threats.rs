@@ -42,6 +42,8 @@ pub struct TwoThreatConfig {
     pub seed: u64,
     /// ALVS model parameters.
     pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -55,6 +57,7 @@ impl Default for TwoThreatConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
+            fsm: alvs_tasks::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }
@@ -233,6 +236,7 @@ pub fn run(
             // every controller meets the same noise in run r
             seed: Rng::new(config.seed).fork(r as u64).next_u64(),
             params: config.params,
+            fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
         };
