@@ -48,6 +48,25 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     assert!(json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 9));
 }
 
+/// Paper Fig. 4c,d: the direction-blind LGMD2 escape "result[s] in a higher likelihood of
+/// collisions". On plain walls (a lab arena) ALVS's directed turn clears the obstacle from
+/// most bearings while LGMD2's random turn does not. (On the textured default walls both
+/// collide: docs/experiments.md, *Evasion*.)
+#[test]
+fn on_plain_walls_alvs_collides_less_than_lgmd2() {
+    let config = EvasionConfig {
+        controllers: vec![Kind::Alvs, Kind::Lgmd2],
+        background: "plain:200".into(),
+        ..EvasionConfig::default()
+    };
+    let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+    let (alvs, lgmd2) = (&r.controllers[0], &r.controllers[1]);
+    let table = r.table();
+    assert_eq!(alvs.correct_side, 9, "{table}");
+    assert!(alvs.collisions <= 4, "{table}");
+    assert!(lgmd2.collisions >= alvs.collisions + 3, "{table}");
+}
+
 /// Paper Fig. 4b: ALVS takes the faster of two simultaneous threats for the more imminent one
 /// and evades away from it. LGMD2, which has no direction, serves as the chance level.
 #[test]
