@@ -169,11 +169,15 @@ fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     let dir = std::env::temp_dir().join(format!("alvs-exp-cli-{}", std::process::id()));
     let json = dir.join("ev.json");
     std::fs::create_dir_all(&dir).unwrap();
+    let trace = dir.join("ev.csv");
     let out = alvs()
         .args(["evasion", "--controller", "alvs", "--jobs", "2", "--json"])
         .arg(&json)
         .arg("--png")
         .arg(&dir)
+        .arg("--trace")
+        .arg(&trace)
+        .args(["--fsm", "settle_frames=2"])
         .output()
         .unwrap();
     assert!(
@@ -185,6 +189,32 @@ fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     assert_eq!(v["alvs"]["angles"], 9);
     assert!(dir.join("evasion.png").exists());
     assert!(String::from_utf8_lossy(&out.stdout).contains("correct side"));
+    // the trace: a header, then every frame of the 9 trials; the tested robot stands until its
+    // first alert and the obstacle closes in at 100 mm/s
+    let csv = std::fs::read_to_string(&trace).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("controller,bearing_deg,frame,t_s,x_mm,y_mm,heading_deg,state,alert,short_mode,response,threat_x,fields,distance_mm")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.iter().all(|r| r.len() == 14 && r[0] == "alvs"));
+    let first: Vec<&Vec<&str>> = rows.iter().filter(|r| r[2] == "0").collect();
+    assert_eq!(first.len(), 9);
+    let d = |r: &Vec<&str>| r[13].parse::<f64>().unwrap();
+    assert!((d(first[0]) - 496.7).abs() < 0.2, "{:?}", first[0]);
+    let alerts = rows.iter().filter(|r| r[8] == "1");
+    assert!(alerts.clone().count() >= 9);
+    assert!(alerts
+        .clone()
+        .all(|r| r[10].parse::<u32>().unwrap() > 0 && !r[11].is_empty()));
+    // bad values of --fsm fail with one line naming the parameter
+    let out = alvs()
+        .args(["evasion", "--fsm", "settle_frames=-1"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("settle_frames"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -154,6 +154,10 @@ struct EvasionArgs {
     /// Where the picture goes.
     #[arg(long, default_value = "out/evasion", value_name = "DIR")]
     png: PathBuf,
+    /// Write every trial's tested robot frame by frame as CSV (pose, state, alert, ΣLPLC2 or
+    /// LGMD2 spikes, X̄, fields, distance to each obstacle).
+    #[arg(long, value_name = "PATH")]
+    trace: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -175,6 +179,10 @@ struct TwoThreatArgs {
     /// Where the picture goes.
     #[arg(long, default_value = "out/two-threats", value_name = "DIR")]
     png: PathBuf,
+    /// Write every trial's tested robot frame by frame as CSV (pose, state, alert, ΣLPLC2 or
+    /// LGMD2 spikes, X̄, fields, distance to each obstacle).
+    #[arg(long, value_name = "PATH")]
+    trace: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -575,6 +583,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         params: parse_params(&a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        trace: a.trace.is_some(),
         ..evasion::EvasionConfig::default()
     };
     config.validate()?;
@@ -583,6 +592,9 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
     bar.finish_and_clear();
     let r = r?;
     let pictures = r.write_pictures(&a.png)?;
+    if let Some(path) = &a.trace {
+        r.write_trace(path)?;
+    }
     a.common.write_json(&r.json())?;
     report(&r.table(), &pictures, &a.png, &a.common.json)
 }
@@ -597,6 +609,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         params: parse_params(&a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        trace: a.trace.is_some(),
     };
     config.validate()?;
     let bar = progress_bar("two-threats", config.total_frames());
@@ -604,6 +617,9 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
     bar.finish_and_clear();
     let r = r?;
     let pictures = r.write_pictures(&a.png)?;
+    if let Some(path) = &a.trace {
+        r.write_trace(path)?;
+    }
     a.common.write_json(&r.json())?;
     report(&r.table(), &pictures, &a.png, &a.common.json)
 }

@@ -8,8 +8,21 @@ use alvs_tasks::{Frame, Network, Params};
 use crate::arena::rng::Rng;
 use crate::lgmd2::{Lgmd2, Lgmd2Params};
 
+/// What a controller's perception reported for one frame (for traces; zero for the blind).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Seen {
+    /// ALVS: `ΣLPLC2`; LGMD2: its spikes of the current burst.
+    pub response: u32,
+    /// ALVS: `X̄`, the threat's column; LGMD2: none (it has no direction).
+    pub threat_x: Option<f32>,
+    /// ALVS: attention fields standing; LGMD2: 0.
+    pub fields: u8,
+    /// ALVS: the short mode is on (`ΣLPLC2 > T_s`).
+    pub short_mode: bool,
+}
+
 /// What a controller asks of the motors for one camera frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Command {
     /// Left wheel, mm/s.
     pub left_mm_s: f32,
@@ -19,6 +32,8 @@ pub struct Command {
     pub state: &'static str,
     /// The controller's collision detector fired this frame.
     pub alert: bool,
+    /// What its perception reported.
+    pub seen: Seen,
 }
 
 /// A robot's brain: one call per camera frame with the frame and the heading estimate.
@@ -110,6 +125,12 @@ impl Controller for AlvsController {
             right_mm_s: cmd.right_mm_s,
             state: cmd.state.name(),
             alert: out.vm.alert,
+            seen: Seen {
+                response: out.vm.lplc2_sum,
+                threat_x: out.vm.threat_x,
+                fields: out.afs.len() as u8,
+                short_mode: out.vm.short_mode,
+            },
         }
     }
 }
@@ -196,6 +217,10 @@ impl Controller for Lgmd2Controller {
             right_mm_s: r,
             state: self.state.name(),
             alert: out.collision,
+            seen: Seen {
+                response: out.accumulated,
+                ..Seen::default()
+            },
         }
     }
 }
@@ -222,7 +247,7 @@ impl Controller for Scripted {
             left_mm_s: self.left_mm_s,
             right_mm_s: self.right_mm_s,
             state: "scripted",
-            alert: false,
+            ..Command::default()
         }
     }
 }
@@ -280,7 +305,7 @@ impl Controller for Approach {
             left_mm_s: v,
             right_mm_s: v,
             state: "scripted",
-            alert: false,
+            ..Command::default()
         }
     }
 }

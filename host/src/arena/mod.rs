@@ -32,7 +32,7 @@ pub mod topdown;
 pub mod world;
 
 pub use contacts::{ContactCounts, ContactEvent, ContactTracker, EventKind, Other, Tally};
-pub use controller::{Command, Controller, Kind};
+pub use controller::{Command, Controller, Kind, Seen};
 pub use gyro::{GyroParams, SimGyro};
 pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
 pub use physics::Physics;

@@ -67,12 +67,7 @@ impl Sim {
             controller,
             camera: Camera::new(noise, cam_seed),
         });
-        self.last.push(Command {
-            left_mm_s: 0.0,
-            right_mm_s: 0.0,
-            state: "",
-            alert: false,
-        });
+        self.last.push(Command::default());
         self.state_frames.push(BTreeMap::new());
         self.trails.push(vec![(pose.x_mm, pose.y_mm)]);
         i

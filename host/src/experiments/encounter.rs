@@ -29,8 +29,8 @@ use alvs_tasks::Params;
 
 use crate::arena::controller::{Approach, HoldUntilAlert};
 use crate::arena::{
-    ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, SensorNoise, Sim,
-    WallTexture, World, FRAME_DT_S,
+    Command, ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, Seen,
+    SensorNoise, Sim, WallTexture, World, FRAME_DT_S,
 };
 
 /// Where the tested robot starts (x mm, y mm, heading °) in the default arena.
@@ -127,6 +127,53 @@ pub struct Encounter {
     pub texture: WallTexture,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
     pub noise: bool,
+    /// Record a [`TraceRow`] per frame.
+    pub trace: bool,
+}
+
+/// One camera frame of the tested robot, for `--trace` (CSV: [`TRACE_HEADER`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TraceRow {
+    /// Camera frame, from 0.
+    pub frame: u64,
+    /// Pose after the frame's physics.
+    pub pose: Pose,
+    /// Controller state.
+    pub state: &'static str,
+    /// The controller's alert.
+    pub alert: bool,
+    /// What its perception reported.
+    pub seen: Seen,
+    /// Centre distance to each obstacle, mm.
+    pub distance_mm: Vec<f64>,
+}
+
+/// Columns of a trace row ([`TraceRow::csv`]), after the caller's own leading columns.
+pub const TRACE_HEADER: &str =
+    "frame,t_s,x_mm,y_mm,heading_deg,state,alert,short_mode,response,threat_x,fields,distance_mm";
+
+impl TraceRow {
+    /// The row as CSV fields ([`TRACE_HEADER`]); distances to several obstacles are joined by `;`.
+    pub fn csv(&self) -> String {
+        let d: Vec<String> = self.distance_mm.iter().map(|d| format!("{d:.1}")).collect();
+        format!(
+            "{},{:.4},{:.1},{:.1},{:.1},{},{},{},{},{},{},{}",
+            self.frame,
+            (self.frame + 1) as f64 * FRAME_DT_S,
+            self.pose.x_mm,
+            self.pose.y_mm,
+            self.pose.heading_deg,
+            self.state,
+            u8::from(self.alert),
+            u8::from(self.seen.short_mode),
+            self.seen.response,
+            self.seen
+                .threat_x
+                .map_or(String::new(), |x| format!("{x:.1}")),
+            self.seen.fields,
+            d.join(";"),
+        )
+    }
 }
 
 /// What happened.
@@ -152,6 +199,8 @@ pub struct EncounterResult {
     pub trails: Vec<Vec<(f64, f64)>>,
     /// Final poses (tested robot first).
     pub end_poses: Vec<Pose>,
+    /// The tested robot frame by frame (empty unless [`Encounter::trace`]).
+    pub trace: Vec<TraceRow>,
 }
 
 impl EncounterResult {
@@ -164,6 +213,28 @@ impl EncounterResult {
     pub fn side(&self) -> Side {
         Side::of(self.escape_turn_deg)
     }
+}
+
+/// Writes traces as CSV: a header `lead_header,`[`TRACE_HEADER`], then every trial's rows,
+/// each prefixed by that trial's leading fields (e.g. `alvs,-35.00`).
+pub fn write_trace<'a>(
+    path: &std::path::Path,
+    lead_header: &str,
+    trials: impl IntoIterator<Item = (String, &'a [TraceRow])>,
+) -> anyhow::Result<()> {
+    use anyhow::Context;
+    use std::io::Write;
+    let file =
+        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
+    let mut out = std::io::BufWriter::new(file);
+    writeln!(out, "{lead_header},{TRACE_HEADER}")?;
+    for (lead, rows) in trials {
+        for r in rows {
+            writeln!(out, "{lead},{}", r.csv())?;
+        }
+    }
+    out.flush()
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The tested robot's start pose.
@@ -217,18 +288,30 @@ pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
     let mut takeoff_state = "";
     let mut escape_turn = None;
     let window = (TURN_WINDOW_S / FRAME_DT_S).round() as u64;
+    let mut trace = Vec::new();
     for f in 0..frames {
-        let mut state = "";
+        let mut tested = Command::default();
         sim.step_with(|i, _, cmd| {
             if i == 0 {
                 if cmd.alert && first_alert.is_none() {
                     first_alert = Some(f);
                     takeoff_state = cmd.state;
                 }
-                state = cmd.state;
+                tested = *cmd;
             }
         });
+        let state = tested.state;
         let poses = sim.physics.poses();
+        if e.trace {
+            trace.push(TraceRow {
+                frame: f,
+                pose: poses[0],
+                state,
+                alert: tested.alert,
+                seen: tested.seen,
+                distance_mm: poses[1..].iter().map(|p| poses[0].distance_to(p)).collect(),
+            });
+        }
         if let (Some(a), None) = (first_alert, escape_turn) {
             if state != takeoff_state || f >= a + window {
                 escape_turn = Some(crate::arena::world::wrap_deg(
@@ -281,5 +364,6 @@ pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
         frames,
         trails,
         end_poses: sim.physics.poses().to_vec(),
+        trace,
     }
 }

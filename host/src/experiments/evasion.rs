@@ -47,6 +47,8 @@ pub struct EvasionConfig {
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
     pub fsm: alvs_tasks::fsm::FsmParams,
+    /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
+    pub trace: bool,
     /// Wall texture specification.
     pub background: String,
 }
@@ -61,6 +63,7 @@ impl Default for EvasionConfig {
             seed: 1,
             params: Params::default(),
             fsm: alvs_tasks::fsm::FsmParams::default(),
+            trace: false,
             background: "clutter:1".into(),
         }
     }
@@ -211,6 +214,8 @@ pub struct EvasionReport {
     pub controllers: Vec<ControllerEvasion>,
     /// Wall-clock seconds.
     pub wall_clock_s: f64,
+    /// Per trial, its CSV leading fields and its trace (empty rows unless the config's `trace`).
+    pub traces: Vec<(String, Vec<encounter::TraceRow>)>,
 }
 
 /// Runs every (controller, bearing) trial on `jobs` threads (0 = all cores).
@@ -240,9 +245,13 @@ pub fn run(
             fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
+            trace: config.trace,
         };
-        AngleOutcome::new(b, &encounter::run(&e, progress))
+        let r = encounter::run(&e, progress);
+        let lead = format!("{},{b:.2}", kind.name());
+        (AngleOutcome::new(b, &r), (lead, r.trace))
     });
+    let (results, traces): (Vec<AngleOutcome>, Vec<_>) = results.into_iter().unzip();
     let controllers = config
         .controllers
         .iter()
@@ -267,6 +276,7 @@ pub fn run(
         config: config.clone(),
         controllers,
         wall_clock_s: t0.elapsed().as_secs_f64(),
+        traces,
     })
 }
 
@@ -343,6 +353,12 @@ impl EvasionReport {
             );
         }
         out
+    }
+
+    /// Writes the trials' traces as CSV (`controller,bearing_deg,` + [`encounter::TRACE_HEADER`]).
+    pub fn write_trace(&self, path: &Path) -> Result<()> {
+        let trials = self.traces.iter().map(|(l, t)| (l.clone(), t.as_slice()));
+        encounter::write_trace(path, "controller,bearing_deg", trials)
     }
 
     /// `evasion.png` in `dir`: one top-down panel per controller with the tested robot's path

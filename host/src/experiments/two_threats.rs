@@ -44,6 +44,8 @@ pub struct TwoThreatConfig {
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
     pub fsm: alvs_tasks::fsm::FsmParams,
+    /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
+    pub trace: bool,
     /// Wall texture specification.
     pub background: String,
 }
@@ -58,6 +60,7 @@ impl Default for TwoThreatConfig {
             seed: 1,
             params: Params::default(),
             fsm: alvs_tasks::fsm::FsmParams::default(),
+            trace: false,
             background: "clutter:1".into(),
         }
     }
@@ -215,6 +218,8 @@ pub struct TwoThreatReport {
     pub controllers: Vec<ControllerTwoThreats>,
     /// Wall-clock seconds.
     pub wall_clock_s: f64,
+    /// Per trial, its CSV leading fields and its trace (empty rows unless the config's `trace`).
+    pub traces: Vec<(String, Vec<encounter::TraceRow>)>,
 }
 
 /// Runs every (controller, run) trial on `jobs` threads (0 = all cores).
@@ -239,9 +244,13 @@ pub fn run(
             fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
+            trace: config.trace,
         };
-        RunOutcome::new(pair, &encounter::run(&e, progress))
+        let res = encounter::run(&e, progress);
+        let lead = format!("{},{r}", kind.name());
+        (RunOutcome::new(pair, &res), (lead, res.trace))
     });
+    let (results, traces): (Vec<RunOutcome>, Vec<_>) = results.into_iter().unzip();
     let controllers = kinds
         .iter()
         .enumerate()
@@ -269,6 +278,7 @@ pub fn run(
         config: config.clone(),
         controllers,
         wall_clock_s: t0.elapsed().as_secs_f64(),
+        traces,
     })
 }
 
@@ -318,6 +328,12 @@ impl TwoThreatReport {
             );
         }
         out
+    }
+
+    /// Writes the trials' traces as CSV (`controller,run,` + [`encounter::TRACE_HEADER`]).
+    pub fn write_trace(&self, path: &Path) -> Result<()> {
+        let trials = self.traces.iter().map(|(l, t)| (l.clone(), t.as_slice()));
+        encounter::write_trace(path, "controller,run", trials)
     }
 
     /// `two_threats.png` in `dir`: per controller, the tested robot's paths of the first runs
