@@ -487,6 +487,10 @@ pub fn integrate_rows(
     let mut q = [[0u64; 4]; crate::network::MAX_AFS];
     let mut row = [[0u32; 2]; PADDED];
     let mut vs = [[0u32; 2]; WIDTH];
+    // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
+    // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above
+    // and below, the only rows that read it), so it is not cleared per row
+    let mut pre = [[0u32; 4]; MAX_BP];
     let (y_lo, y_hi) = fields
         .iter()
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
@@ -514,8 +518,7 @@ pub fn integrate_rows(
         let a = u16::try_from(nw.a).unwrap_or(0);
         let b = u16::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
-        // prefix sums over the segments: [r, l, primary vertical, second vertical]
-        let mut pre = [[0u32; 4]; MAX_BP];
+        // prefix sums over the segments in `pre`: [r, l, primary vertical, second vertical]
         {
             let ctx = RowCtx {
                 row: &row,
