@@ -185,6 +185,11 @@ impl Bench {
         &self.m
     }
 
+    /// The machine, mutable (to profile it).
+    pub fn machine_mut(&mut self) -> &mut Machine {
+        &mut self.m
+    }
+
     /// One frame: the report and the cycles.
     pub fn step(&mut self, frame: &Frame) -> Result<(Report, FrameCycles), Error> {
         self.m.write(self.frame, frame)?;
@@ -373,6 +378,57 @@ pub struct SceneResult {
     pub max_afs: u32,
     /// Deepest stack.
     pub stack: u32,
+}
+
+/// The per-instruction profile of a scene's worst frame (largest pessimistic total).
+pub struct Profile {
+    /// Scene name.
+    pub name: String,
+    /// The worst frame's index.
+    pub frame: usize,
+    /// Its cycles.
+    pub cycles: FrameCycles,
+    /// Its cycles per instruction address.
+    pub pcs: Vec<crate::PcCycles>,
+}
+
+/// Runs `scene` as [`run_scene`] does (outputs checked against the host build) with the
+/// per-instruction profile on, and keeps the profile of its worst frame.
+pub fn profile_scene(bench: &mut Bench, scene: &Scene) -> Result<Profile, BudgetError> {
+    bench.reset()?;
+    bench.machine_mut().set_profiling(true);
+    let mut host = HostTwin::new();
+    let mut worst = Profile {
+        name: scene.name.clone(),
+        frame: 0,
+        cycles: FrameCycles::default(),
+        pcs: Vec::new(),
+    };
+    for (i, frame) in scene.frames.iter().enumerate() {
+        let stepped = bench.step(frame);
+        let pcs = bench.machine_mut().take_profile();
+        let (report, cycles) = stepped.inspect_err(|_| bench.machine_mut().set_profiling(false))?;
+        let twin = host.step(frame);
+        if report.outputs() != twin.outputs() {
+            bench.machine_mut().set_profiling(false);
+            return Err(BudgetError::Mismatch {
+                scene: scene.name.clone(),
+                frame: i,
+                emulated: Box::new(report.outputs()),
+                host: Box::new(twin.outputs()),
+            });
+        }
+        if cycles.pessimistic_total() > worst.cycles.pessimistic_total() {
+            worst = Profile {
+                frame: i,
+                cycles,
+                pcs,
+                ..worst
+            };
+        }
+    }
+    bench.machine_mut().set_profiling(false);
+    Ok(worst)
 }
 
 /// Why a scene cannot be trusted.

@@ -27,7 +27,7 @@ pub mod ram;
 pub mod timing;
 
 pub use error::{Access, Error};
-pub use machine::{Machine, Run, Stamp, DEFAULT_LIMIT};
+pub use machine::{Machine, PcCycles, Run, Stamp, DEFAULT_LIMIT};
 pub use ram::{FlashUse, RamReport, RegionUse};
 pub use timing::{Class, ClassStat, FlashModel};
 

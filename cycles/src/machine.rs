@@ -24,6 +24,22 @@ pub struct Stamp {
     pub pessimistic: u64,
 }
 
+/// What one instruction address cost over the calls profiled ([`Machine::set_profiling`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PcCycles {
+    pub pc: u32,
+    /// Times executed (IT-skipped executions not included).
+    pub count: u64,
+    /// Pessimistic cycles charged while this instruction was the one reported: its own cost,
+    /// the IT-skipped instructions before it, and the penalty (P, flash miss) of the taken
+    /// branch that arrived at it.
+    pub pessimistic: u64,
+    /// Nominal cycles, likewise.
+    pub nominal: u64,
+    /// The instruction (capstone's text).
+    pub text: String,
+}
+
 /// The result of one call.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Run {
@@ -78,6 +94,8 @@ struct State {
     cycles_before: u64,
     /// Value written to CYCCNT minus the modelled count at the write.
     cyccnt_offset: u32,
+    /// Per-PC `(count, pessimistic, nominal)` when profiling.
+    profile: Option<HashMap<u32, (u64, u64, u64)>>,
 }
 
 impl State {
@@ -133,6 +151,7 @@ impl Machine {
             dwt: vec![0; 0x1000],
             cycles_before: 0,
             cyccnt_offset: 0,
+            profile: None,
         };
         let mut uc =
             Unicorn::new_with_data(Arch::ARM, Mode::THUMB | Mode::MCLASS, state).map_err(emu)?;
@@ -215,7 +234,15 @@ impl Machine {
             }
             let st = uc.get_data_mut();
             if let Some(d) = st.decoded.get(&pc).copied() {
+                let before = st.timing.counters;
                 st.timing.step(pc, &d);
+                if let Some(p) = st.profile.as_mut() {
+                    let after = st.timing.counters;
+                    let e = p.entry(pc).or_insert((0, 0, 0));
+                    e.0 += 1;
+                    e.1 += after.pessimistic() - before.pessimistic();
+                    e.2 += after.nominal() - before.nominal();
+                }
             }
         })
         .map_err(emu)?;
@@ -388,6 +415,51 @@ impl Machine {
     /// How the pessimistic model treats flash fetches; default the 64-line ART.
     pub fn set_flash_model(&mut self, model: FlashModel) {
         self.uc.get_data_mut().timing = Timing::new(model);
+    }
+
+    /// Turns the per-instruction profile on (cleared) or off. While on, every executed
+    /// instruction's cycles are added to its address (slower: a hash map update per
+    /// instruction); [`Machine::take_profile`] returns and clears it.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.uc.get_data_mut().profile = on.then(HashMap::new);
+    }
+
+    /// The profile since [`Machine::set_profiling`] or the last take, sorted by address; empty
+    /// when profiling is off. Profiling stays on.
+    pub fn take_profile(&mut self) -> Vec<PcCycles> {
+        let st = self.uc.get_data_mut();
+        let Some(p) = st.profile.as_mut() else {
+            return Vec::new();
+        };
+        let taken = std::mem::take(p);
+        let mut v: Vec<PcCycles> = taken
+            .into_iter()
+            .map(|(pc, (count, pessimistic, nominal))| PcCycles {
+                pc,
+                count,
+                pessimistic,
+                nominal,
+                text: st
+                    .decoded
+                    .get(&pc)
+                    .map_or_else(String::new, |d| d.text().to_owned()),
+            })
+            .collect();
+        v.sort_by_key(|c| c.pc);
+        v
+    }
+
+    /// The function symbols of the ELF, as `(address, size, name)` sorted by address (Thumb
+    /// bit cleared), for attributing profiled addresses.
+    pub fn functions(&self) -> Vec<(u32, u32, String)> {
+        let mut v: Vec<(u32, u32, String)> = self
+            .symbols
+            .iter()
+            .filter(|(_, s)| s.function && s.size > 0)
+            .map(|(n, s)| (s.address(), s.size, n.clone()))
+            .collect();
+        v.sort();
+        v
     }
 
     /// Fills `range` (word aligned) with `pattern`.

@@ -157,9 +157,10 @@ impl Fields {
         }
         let r = usize::from(p.r_af);
         let mut best = (0u32, 0usize, 0usize);
+        // covered columns of a row as half-open intervals, sorted by start (`cov[..k]` is
+        // rewritten for every row; kept out of the loop so it is not cleared per row)
+        let mut cov = [(0usize, 0usize); MAX_AFS];
         for y in 0..HEIGHT {
-            // covered columns of this row as half-open intervals, sorted by start
-            let mut cov = [(0usize, 0usize); MAX_AFS];
             let mut k = 0;
             for f in self.list.iter() {
                 if usize::from(f.y).abs_diff(y) <= r {

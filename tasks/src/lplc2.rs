@@ -232,22 +232,83 @@ fn pack_row(row: &mut [[u32; 2]; PADDED], m: &Maps, y: usize, c0: usize, c1: usi
 
 /// `out[x] = Σ_{k<K} row(x, r0 + k)` (packed as in [`pack_row`]) for columns `c0..c1`: a
 /// vertical neighbour sum of `K` rows, all on the retina.
+///
+/// Four columns per step, one word load per map and row: the even and odd bytes of the `K`
+/// words are summed in 16-bit lanes (`w & 0x00FF00FF`, `w >> 8 & 0x00FF00FF`: a lane sum of
+/// `K ≤ 4` bytes is ≤ 1020, no carry), then the `on` and `off` lanes of a column are paired
+/// (`PKHBT`/`PKHTB` on the Cortex-M4). Leftover columns (fewer than 4) one by one.
 #[inline(always)]
 fn vsum_k<const K: usize>(out: &mut [[u32; 2]; WIDTH], m: &Maps, r0: usize, c0: usize, c1: usize) {
     let out = &mut out[c0..c1];
     let len = out.len();
-    fn rows<const K: usize>(a: &[u8; PIXELS], r0: usize, c0: usize, len: usize) -> [&[u8]; K] {
-        core::array::from_fn(|k| &a[(r0 + k) * WIDTH + c0..][..len])
+    let groups = len / 4;
+    // the K rows of a map from column c0: one slice, row k at offset k·WIDTH; it ends at
+    // (r0 + K − 1)·WIDTH + c0 + 4·groups ≤ PIXELS (row r0 + K − 1 is on the retina, c0 + len ≤
+    // WIDTH), so `get` always succeeds; were it not to, the group loop would not run
+    let base = r0 * WIDTH + c0;
+    let span = (K - 1) * WIDTH + 4 * groups;
+    fn rows(a: &[u8; PIXELS], base: usize, span: usize) -> &[u8] {
+        a.get(base..base + span).unwrap_or_default()
     }
-    let rows = |a| rows::<K>(a, r0, c0, len);
+    let (on, off) = (rows(m.on, base, span), rows(m.off, base, span));
+    let (on_d, off_d) = (rows(m.on_d, base, span), rows(m.off_d, base, span));
+    let ok = [on, off, on_d, off_d].iter().all(|s| s.len() == span);
+    const LANES: u32 = 0x00FF_00FF;
+    // even and odd columns of four, summed over the K rows: one bounds test per map and group
+    // (the block spans the K rows), none per word
+    #[inline(always)]
+    fn sums<const K: usize>(s: &[u8], i: usize) -> (u32, u32) {
+        let (mut e, mut o) = (0u32, 0u32);
+        let Some(blk) = s.get(i..i + (K - 1) * WIDTH + 4) else {
+            return (0, 0);
+        };
+        for k in 0..K {
+            let w = blk[k * WIDTH..]
+                .first_chunk::<4>()
+                .map_or(0, |b| u32::from_le_bytes(*b));
+            e += w & LANES;
+            o += (w >> 8) & LANES;
+        }
+        (e, o)
+    }
+    // [lo | hi << 16] for the even (0, 2) and odd (1, 3) columns of four
+    #[inline(always)]
+    fn pair(lo: u32, hi: u32) -> [u32; 2] {
+        [(lo & 0xFFFF) | (hi << 16), (lo >> 16) | (hi & 0xFFFF_0000)]
+    }
+    let (quads, rest) = out.split_at_mut(if ok { 4 * groups } else { 0 });
+    for (g, q) in quads.chunks_exact_mut(4).enumerate() {
+        let i = 4 * g;
+        let (on_e, on_o) = sums::<K>(on, i);
+        let (off_e, off_o) = sums::<K>(off, i);
+        let (ond_e, ond_o) = sums::<K>(on_d, i);
+        let (offd_e, offd_o) = sums::<K>(off_d, i);
+        let (n_e, n_o) = (pair(on_e, off_e), pair(on_o, off_o));
+        let (d_e, d_o) = (pair(ond_e, offd_e), pair(ond_o, offd_o));
+        q[0] = [n_e[0], d_e[0]];
+        q[1] = [n_o[0], d_o[0]];
+        q[2] = [n_e[1], d_e[1]];
+        q[3] = [n_o[1], d_o[1]];
+    }
+    let done = len - rest.len();
+    fn rows_of<const K: usize>(a: &[u8; PIXELS], r0: usize, c0: usize, len: usize) -> [&[u8]; K] {
+        core::array::from_fn(|k| {
+            a.get((r0 + k) * WIDTH + c0..)
+                .map_or(&[][..], |r| &r[..len.min(r.len())])
+        })
+    }
+    let c = c0 + done;
+    let n = rest.len();
+    let rows = |a| rows_of::<K>(a, r0, c, n);
     let (on, off, on_d, off_d) = (rows(m.on), rows(m.off), rows(m.on_d), rows(m.off_d));
-    for (i, o) in out.iter_mut().enumerate() {
+    for (i, o) in rest.iter_mut().enumerate() {
         let mut s = [0u32; 4];
         for k in 0..K {
-            s[0] += u32::from(on[k][i]);
-            s[1] += u32::from(off[k][i]);
-            s[2] += u32::from(on_d[k][i]);
-            s[3] += u32::from(off_d[k][i]);
+            let at = |r: &[&[u8]; K]| r[k].get(i).copied().map_or(0, u32::from);
+            s[0] += at(&on);
+            s[1] += at(&off);
+            s[2] += at(&on_d);
+            s[3] += at(&off_d);
         }
         *o = [s[0] | s[1] << 16, s[2] | s[3] << 16];
     }
@@ -426,6 +487,10 @@ pub fn integrate_rows(
     let mut q = [[0u64; 4]; crate::network::MAX_AFS];
     let mut row = [[0u32; 2]; PADDED];
     let mut vs = [[0u32; 2]; WIDTH];
+    // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
+    // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above
+    // and below, the only rows that read it), so it is not cleared per row
+    let mut pre = [[0u32; 4]; MAX_BP];
     let (y_lo, y_hi) = fields
         .iter()
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
@@ -453,8 +518,7 @@ pub fn integrate_rows(
         let a = u16::try_from(nw.a).unwrap_or(0);
         let b = u16::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
-        // prefix sums over the segments: [r, l, primary vertical, second vertical]
-        let mut pre = [[0u32; 4]; MAX_BP];
+        // prefix sums over the segments in `pre`: [r, l, primary vertical, second vertical]
         {
             let ctx = RowCtx {
                 row: &row,

@@ -274,8 +274,8 @@ fn finish_maps<const HALF: bool>(
         let (mut won, mut woff) = (0u32, 0u32);
         for i in 0..4 {
             let s = a[i] + m[i] + b[i];
-            won |= u32::from(div9(s as u16)) << (8 * i);
-            woff |= u32::from(div9((s >> 16) as u16)) << (8 * i);
+            won |= u32::from(div9_lo(s)) << (8 * i);
+            woff |= u32::from(div9_hi(s)) << (8 * i);
         }
         *on = won.to_le_bytes();
         *off = woff.to_le_bytes();
@@ -325,6 +325,20 @@ fn half_step4(d: u32, l: u32) -> u32 {
 #[inline(always)]
 pub fn div9(s: u16) -> u8 {
     ((u32::from(s) * 7282) >> 16) as u8
+}
+
+/// [`div9`] of the low lane of a packed sum: the lane read as `i16` (`s ≤ 2295`, so the same
+/// number) lets the multiply take it straight from the packed word (`SMULBB` on the
+/// Cortex-M4, no `UXTH`); `(7282·s) >> 16` as in [`div9`].
+#[inline(always)]
+fn div9_lo(s: u32) -> u8 {
+    ((i64::from(7282i32) * i64::from(s as u16 as i16)) >> 16) as u8
+}
+
+/// [`div9`] of the high lane of a packed sum (`SMULTB`, no shift to extract the lane).
+#[inline(always)]
+fn div9_hi(s: u32) -> u8 {
+    ((i64::from(7282i32) * i64::from((s >> 16) as u16 as i16)) >> 16) as u8
 }
 
 /// Eqs. (1)–(2): the ON and OFF maps of the change from `prev` to `cur`, 3x3-averaged (the
@@ -446,6 +460,17 @@ mod tests {
     fn div9_is_exact_floor_on_its_range() {
         for s in 0..=2295u16 {
             assert_eq!(u16::from(div9(s)), s / 9, "s = {s}");
+        }
+    }
+
+    #[test]
+    fn div9_of_a_lane_is_div9() {
+        // every lane value a 3x3 sum can take, next to any other lane value
+        for s in 0..=2295u32 {
+            for other in [0u32, 1, 9, 1147, 2294, 2295] {
+                assert_eq!(div9_lo(s | other << 16), div9(s as u16), "lo {s} {other}");
+                assert_eq!(div9_hi(other | s << 16), div9(s as u16), "hi {s} {other}");
+            }
         }
     }
 

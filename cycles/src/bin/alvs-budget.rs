@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_cycles::budget::{
-    build_firmware, clips, ms, run_scene, table, worst_cases, Bench, SceneResult, GATE_CLIPS,
-    GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES,
+    build_firmware, clips, ms, profile_scene, run_scene, table, worst_cases, Bench, Profile,
+    SceneResult, GATE_CLIPS, GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES, STAGE_NAMES,
 };
 use clap::Parser;
 
@@ -32,6 +32,14 @@ struct Args {
     /// Replace the table between the `budget-table` markers of this Markdown file.
     #[arg(long, value_name = "FILE")]
     write_doc: Option<PathBuf>,
+    /// Profile one scene instead (a constructed case or a clip, by name): the cycles of its
+    /// worst frame per function symbol, per source line (innermost inlined frame, through
+    /// `llvm-addr2line` when it is on the PATH) and per instruction.
+    #[arg(long, value_name = "SCENE")]
+    profile: Option<String>,
+    /// Rows of each profile listing.
+    #[arg(long, value_name = "N", default_value_t = 40)]
+    top: usize,
 }
 
 const START: &str = "<!-- budget-table:start -->";
@@ -66,6 +74,18 @@ fn run(a: Args) -> Result<(), String> {
         scenes.extend(clips(&dir, only)?);
     } else if !a.json {
         eprintln!("note: {} is absent: constructed cases only", dir.display());
+    }
+    if let Some(name) = &a.profile {
+        if dir.is_dir() && !a.all_clips {
+            scenes.extend(clips(&dir, None)?.into_iter().filter(|s| &s.name == name));
+        }
+        let scene = scenes
+            .iter()
+            .find(|s| &s.name == name)
+            .ok_or_else(|| format!("no scene {name}"))?;
+        let p = profile_scene(&mut bench, scene).map_err(|e| e.to_string())?;
+        print!("{}", profile_text(&p, &bench, &path, a.top));
+        return Ok(());
     }
     let mut results: Vec<SceneResult> = Vec::new();
     for s in &scenes {
@@ -115,4 +135,156 @@ fn run(a: Args) -> Result<(), String> {
         eprintln!("wrote {}", doc.display());
     }
     Ok(())
+}
+
+/// Source location of each address, from `llvm-addr2line` (`None` when it is not on the PATH):
+/// the innermost inlined frame in the project's own code (frames in the Rust library are
+/// skipped), as `module::function (file:line)`.
+fn source_lines(elf: &Path, pcs: &[u32]) -> Option<Vec<String>> {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new("llvm-addr2line")
+        .args(["--output-style=LLVM", "-f", "-i", "-C", "-e"])
+        .arg(elf)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .ok()?;
+    let input: String = pcs.iter().map(|pc| format!("{pc:#x}\n")).collect();
+    let mut stdin = child.stdin.take()?;
+    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
+    let out = child.wait_with_output().ok()?;
+    writer.join().ok()?.ok()?;
+    // LLVM style: "function\nfile:line:column\n" per inlined frame (innermost first), a
+    // blank line after each address
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v: Vec<String> = text
+        .split("\n\n")
+        .filter(|b| !b.trim().is_empty())
+        .map(|b| {
+            let lines: Vec<&str> = b.lines().collect();
+            let frames: Vec<(&str, &str)> = lines
+                .chunks(2)
+                .map(|c| (c[0], *c.get(1).unwrap_or(&"?")))
+                .collect();
+            let (f, at) = frames
+                .iter()
+                .find(|(_, at)| !at.starts_with("/rustc/") && !at.contains("/.cargo/"))
+                .or(frames.first())
+                .copied()
+                .unwrap_or(("?", "?"));
+            let at = at.rsplit_once(':').map_or(at, |(a, _col)| a);
+            let file = at.rsplit('/').next().unwrap_or(at);
+            // the last two path segments: `module::function`
+            let segs: Vec<&str> = f.split("::").collect();
+            let short = segs[segs.len().saturating_sub(2)..].join("::");
+            format!("{short} ({file})")
+        })
+        .collect();
+    (v.len() == pcs.len()).then_some(v)
+}
+
+/// The profile as text: per stage, per function symbol, per source line and per instruction.
+fn profile_text(p: &Profile, bench: &Bench, elf: &Path, top: usize) -> String {
+    use std::collections::HashMap;
+    use std::fmt::Write;
+    let total: u64 = p.pcs.iter().map(|c| c.pessimistic).sum();
+    let share = |c: u64| 100.0 * c as f64 / total.max(1) as f64;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{} frame {}: {} pessimistic cycles ({} profiled), {} nominal",
+        p.name,
+        p.frame,
+        p.cycles.pessimistic_total(),
+        total,
+        p.cycles.nominal_total()
+    );
+    for (name, c) in STAGE_NAMES.iter().zip(p.cycles.pessimistic) {
+        let _ = writeln!(s, "  {name:<10} {c:>9}");
+    }
+    let list = |s: &mut String, title: &str, mut rows: Vec<(String, u64, u64)>| {
+        rows.sort_by_key(|r| std::cmp::Reverse(r.1));
+        let _ = writeln!(
+            s,
+            "\n{title}\n  {:>9} {:>6} {:>9}  what",
+            "cycles", "%", "executed"
+        );
+        for (what, c, n) in rows.into_iter().take(top) {
+            let _ = writeln!(s, "  {c:>9} {:>5.1}% {n:>9}  {what}", share(c));
+        }
+    };
+    let funcs = bench.machine().functions();
+    let mut per_fn: HashMap<String, (u64, u64)> = HashMap::new();
+    for c in &p.pcs {
+        let i = funcs.partition_point(|f| f.0 <= c.pc);
+        let name = i
+            .checked_sub(1)
+            .map(|i| &funcs[i])
+            .filter(|f| c.pc < f.0 + f.1)
+            .map_or("?", |f| f.2.as_str());
+        let e = per_fn.entry(name.to_owned()).or_default();
+        e.0 += c.pessimistic;
+        e.1 += c.count;
+    }
+    list(
+        &mut s,
+        "per function symbol (after inlining)",
+        per_fn.into_iter().map(|(k, v)| (k, v.0, v.1)).collect(),
+    );
+    let pcs: Vec<u32> = p.pcs.iter().map(|c| c.pc).collect();
+    if let Some(lines) = source_lines(elf, &pcs) {
+        let mut per_line: HashMap<String, (u64, u64)> = HashMap::new();
+        let mut per_src_fn: HashMap<String, (u64, u64)> = HashMap::new();
+        for (c, l) in p.pcs.iter().zip(&lines) {
+            let e = per_line.entry(l.clone()).or_default();
+            e.0 += c.pessimistic;
+            e.1 += c.count;
+            let f = l.split(" (").next().unwrap_or(l);
+            let e = per_src_fn.entry(f.to_owned()).or_default();
+            e.0 += c.pessimistic;
+            e.1 += c.count;
+        }
+        list(
+            &mut s,
+            "per source function (innermost inlined frame)",
+            per_src_fn.into_iter().map(|(k, v)| (k, v.0, v.1)).collect(),
+        );
+        list(
+            &mut s,
+            "per source line",
+            per_line.into_iter().map(|(k, v)| (k, v.0, v.1)).collect(),
+        );
+        let rows: Vec<(String, u64, u64)> = p
+            .pcs
+            .iter()
+            .zip(&lines)
+            .map(|(c, l)| {
+                (
+                    format!("{:#010x}  {:<32} {l}", c.pc, c.text),
+                    c.pessimistic,
+                    c.count,
+                )
+            })
+            .collect();
+        list(&mut s, "per instruction", rows);
+    } else {
+        let rows: Vec<(String, u64, u64)> = p
+            .pcs
+            .iter()
+            .map(|c| {
+                (
+                    format!("{:#010x}  {}", c.pc, c.text),
+                    c.pessimistic,
+                    c.count,
+                )
+            })
+            .collect();
+        list(
+            &mut s,
+            "per instruction (llvm-addr2line not found: no source lines)",
+            rows,
+        );
+    }
+    s
 }
