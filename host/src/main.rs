@@ -318,29 +318,33 @@ struct ReplayArgs {
     model: ModelArgs,
 }
 
-/// The model parameters with `--param NAME=VALUE` overrides applied.
-fn parse_params(overrides: &[String]) -> Result<Params> {
-    let mut p = Params::default();
+/// Applies `--FLAG NAME=VALUE` overrides through `set`; a malformed pair or a refused value is
+/// an error naming the flag and the pair.
+fn apply_overrides<E: std::fmt::Display>(
+    flag: &str,
+    overrides: &[String],
+    mut set: impl FnMut(&str, &str) -> Result<(), E>,
+) -> Result<()> {
     for kv in overrides {
         let (k, v) = kv
             .split_once('=')
-            .with_context(|| format!("--param {kv}: expected NAME=VALUE"))?;
-        p.set(k.trim(), v)
-            .map_err(|e| anyhow::anyhow!("--param {kv}: {e}"))?;
+            .with_context(|| format!("--{flag} {kv}: expected NAME=VALUE"))?;
+        set(k.trim(), v).map_err(|e| anyhow::anyhow!("--{flag} {kv}: {e}"))?;
     }
+    Ok(())
+}
+
+/// The model parameters with `--param NAME=VALUE` overrides applied.
+fn parse_params(overrides: &[String]) -> Result<Params> {
+    let mut p = Params::default();
+    apply_overrides("param", overrides, |k, v| p.set(k, v))?;
     Ok(p)
 }
 
 /// The motion parameters with `--fsm NAME=VALUE` overrides applied.
 fn parse_fsm(overrides: &[String]) -> Result<FsmParams> {
     let mut p = FsmParams::default();
-    for kv in overrides {
-        let (k, v) = kv
-            .split_once('=')
-            .with_context(|| format!("--fsm {kv}: expected NAME=VALUE"))?;
-        p.set(k.trim(), v)
-            .map_err(|e| anyhow::anyhow!("--fsm {kv}: {e}"))?;
-    }
+    apply_overrides("fsm", overrides, |k, v| p.set(k, v))?;
     Ok(p)
 }
 
