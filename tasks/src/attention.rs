@@ -191,8 +191,13 @@ impl Fields {
                 x = x.max(c1);
             }
         }
-        let (l, x, y) = best;
-        if l <= p.t_a {
+        self.open(best, p.t_a)
+    }
+
+    /// Eq. (3)'s decision on the strongest candidate `(L̂, x, y)`: a new field there if `L̂`
+    /// is strictly above `t_a` and there is room; its id.
+    fn open(&mut self, (l, x, y): (u32, usize, usize), t_a: u32) -> Option<u32> {
+        if l <= t_a {
             return None;
         }
         let id = self.next_id;
@@ -264,14 +269,7 @@ impl Fields {
                 }
             }
         }
-        let (l, x, y) = best;
-        if l <= p.t_a {
-            return None;
-        }
-        let id = self.next_id;
-        self.next_id = self.next_id.wrapping_add(1);
-        self.list.push(Field::new(id, x, y)).ok()?;
-        Some(id)
+        self.open(best, p.t_a)
     }
 
     /// Eq. (4), pixel by pixel: the plain reference of [`Fields::recentre`].

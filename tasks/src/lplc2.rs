@@ -29,6 +29,17 @@ pub struct Lplc2 {
     pub response: u32,
 }
 
+impl Lplc2 {
+    /// Eq. (9) on the quadrant sums of Eq. (8), each saturated to `u32`.
+    fn from_sums(q: [u64; 4], q_floor: u32, q_balance: u8) -> Self {
+        let quadrants = q.map(|v| v.min(u64::from(u32::MAX)) as u32);
+        Lplc2 {
+            quadrants,
+            response: gate(quadrants, q_floor, q_balance),
+        }
+    }
+}
+
 /// The outward directions collected by each quadrant (Eq. 8).
 pub const QUADRANT_DIRECTIONS: [[Direction; 2]; 4] = [
     [Direction::Right, Direction::Up],
@@ -89,11 +100,7 @@ pub fn integrate(
             }
         }
     }
-    let quadrants = q.map(|v| v.min(u64::from(u32::MAX)) as u32);
-    Lplc2 {
-        quadrants,
-        response: gate(quadrants, q_floor, q_balance),
-    }
+    Lplc2::from_sums(q, q_floor, q_balance)
 }
 
 /// Where one field integrates: its centroid and its clipped square.
@@ -580,11 +587,7 @@ pub fn integrate_rows(
         }
     }
     for (o, qk) in out.iter_mut().zip(q.iter()) {
-        let quadrants = qk.map(|v| v.min(u64::from(u32::MAX)) as u32);
-        *o = Lplc2 {
-            quadrants,
-            response: gate(quadrants, q_floor, q_balance),
-        };
+        *o = Lplc2::from_sums(*qk, q_floor, q_balance);
     }
 }
 
@@ -635,11 +638,7 @@ pub fn integrate_all_general(
         }
     }
     for (o, qk) in out.iter_mut().zip(q.iter()) {
-        let quadrants = qk.map(|v| v.min(u64::from(u32::MAX)) as u32);
-        *o = Lplc2 {
-            quadrants,
-            response: gate(quadrants, q_floor, q_balance),
-        };
+        *o = Lplc2::from_sums(*qk, q_floor, q_balance);
     }
 }
 
