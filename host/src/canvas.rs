@@ -189,6 +189,19 @@ impl Canvas {
         }
     }
 
+    /// `panels` left to right on one white canvas as tall as the tallest (at least 1x1).
+    pub fn side_by_side(panels: &[Canvas]) -> Canvas {
+        let w: usize = panels.iter().map(|p| p.width).sum();
+        let h = panels.iter().map(|p| p.height).max().unwrap_or(1);
+        let mut c = Canvas::new(w.max(1), h, WHITE);
+        let mut x = 0;
+        for p in panels {
+            c.blit(p, x, 0);
+            x += p.width as i32;
+        }
+        c
+    }
+
     /// Saves the canvas as an 8-bit RGB PNG file (PNG encoding errors become `io::Error`s).
     pub fn save_png(&self, path: impl AsRef<Path>) -> io::Result<()> {
         let dim = |v: usize| u32::try_from(v).map_err(|_| io::Error::other("canvas too large"));

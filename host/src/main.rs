@@ -112,11 +112,7 @@ struct CommonArgs {
 
 impl CommonArgs {
     fn jobs(&self) -> Result<usize> {
-        match self.jobs {
-            Some(0) => anyhow::bail!("--jobs must be at least 1"),
-            Some(j) => Ok(j),
-            None => Ok(parallel::default_jobs()),
-        }
+        jobs(self.jobs)
     }
 
     fn write_json(&self, value: &serde_json::Value) -> Result<()> {
@@ -316,6 +312,15 @@ struct ReplayArgs {
     frames: Vec<u32>,
     #[command(flatten)]
     model: ModelArgs,
+}
+
+/// `--jobs`: at least 1, default the available parallelism.
+fn jobs(jobs: Option<usize>) -> Result<usize> {
+    match jobs {
+        Some(0) => anyhow::bail!("--jobs must be at least 1"),
+        Some(j) => Ok(j),
+        None => Ok(parallel::default_jobs()),
+    }
 }
 
 /// Applies `--FLAG NAME=VALUE` overrides through `set`; a malformed pair or a refused value is
@@ -666,11 +671,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         fsm: parse_fsm(&a.fsm)?,
         ..ArenaConfig::default()
     };
-    let jobs = match a.jobs {
-        Some(0) => anyhow::bail!("--jobs must be at least 1"),
-        Some(j) => j,
-        None => parallel::default_jobs(),
-    };
+    let jobs = jobs(a.jobs)?;
     config.validate()?;
     // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).
     let bar = indicatif::ProgressBar::new(arena::total_frames(&config));

@@ -217,10 +217,10 @@ impl EncounterResult {
 
 /// Writes traces as CSV: a header `lead_header,`[`TRACE_HEADER`], then every trial's rows,
 /// each prefixed by that trial's leading fields (e.g. `alvs,-35.00`).
-pub fn write_trace<'a>(
+pub fn write_trace(
     path: &std::path::Path,
     lead_header: &str,
-    trials: impl IntoIterator<Item = (String, &'a [TraceRow])>,
+    trials: &[(String, Vec<TraceRow>)],
 ) -> anyhow::Result<()> {
     use anyhow::Context;
     use std::io::Write;

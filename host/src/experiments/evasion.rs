@@ -357,8 +357,7 @@ impl EvasionReport {
 
     /// Writes the trials' traces as CSV (`controller,bearing_deg,` + [`encounter::TRACE_HEADER`]).
     pub fn write_trace(&self, path: &Path) -> Result<()> {
-        let trials = self.traces.iter().map(|(l, t)| (l.clone(), t.as_slice()));
-        encounter::write_trace(path, "controller,bearing_deg", trials)
+        encounter::write_trace(path, "controller,bearing_deg", &self.traces)
     }
 
     /// `evasion.png` in `dir`: one top-down panel per controller with the tested robot's path
@@ -366,14 +365,7 @@ impl EvasionReport {
     pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
-        let w: usize = panels.iter().map(|p| p.width).sum();
-        let h = panels.iter().map(|p| p.height).max().unwrap_or(1);
-        let mut c = Canvas::new(w.max(1), h, WHITE);
-        let mut x = 0;
-        for p in &panels {
-            c.blit(p, x, 0);
-            x += p.width as i32;
-        }
+        let c = Canvas::side_by_side(&panels);
         let path = dir.join("evasion.png");
         c.save_png(&path)
             .with_context(|| format!("cannot write {}", path.display()))?;
