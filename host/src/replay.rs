@@ -108,9 +108,9 @@ pub fn layer_sheet(frame: &Frame, net: &Network, out: &Perception) -> Canvas {
             .collect()
     };
     let input: Vec<i32> = frame.iter().map(|&v| i32::from(v)).collect();
-    let on = to_i32(&|i| (w.on_q8 * u32::from(maps.on[i])) >> 8);
-    let off = to_i32(&|i| (w.off_q8 * u32::from(maps.off[i])) >> 8);
-    let sal = to_i32(&|i| w.saliency(maps.on[i], maps.off[i]));
+    let on = to_i32(&|i| (w.on_q8 * u32::from(maps.on(i))) >> 8);
+    let off = to_i32(&|i| (w.off_q8 * u32::from(maps.off(i))) >> 8);
+    let sal = to_i32(&|i| w.saliency(maps.on(i), maps.off(i)));
     let mut tiles: Vec<(String, Canvas)> = vec![
         (
             format!("input t={}", out.frame),

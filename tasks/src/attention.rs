@@ -18,7 +18,8 @@
 //! Capacity: [`MAX_AFS`]. When full, no new field is created until one retires; with Table I's
 //! `R_AF` the geometry never lets more than 3 x 2 fields coexist, so this does not happen.
 
-use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::frame::{HEIGHT, WIDTH};
+use crate::hrc::Maps;
 use crate::network::MAX_AFS;
 use crate::params::{Params, MAX_D};
 use crate::retina::Weights;
@@ -145,13 +146,7 @@ impl Fields {
     /// each row into covered column intervals, and only the gaps between them are scanned, in
     /// raster order with a strict `>` (so ties still go to the first pixel), with no per-pixel
     /// containment test.
-    pub fn spawn(
-        &mut self,
-        on: &[u8; PIXELS],
-        off: &[u8; PIXELS],
-        w: &Weights,
-        p: &Params,
-    ) -> Option<u32> {
+    pub fn spawn(&mut self, m: &Maps, w: &Weights, p: &Params) -> Option<u32> {
         if self.list.is_full() {
             return None;
         }
@@ -177,12 +172,14 @@ impl Fields {
                 }
             }
             let row = y * WIDTH;
-            let (on, off) = (&on[row..row + WIDTH], &off[row..row + WIDTH]);
+            let Some(cells) = m.cells.get(row..row + WIDTH) else {
+                break;
+            };
             let mut x = 0;
             for &(c0, c1) in cov[..k].iter().chain(core::iter::once(&(WIDTH, WIDTH))) {
                 if c0 > x {
-                    for (i, (&a, &b)) in on[x..c0].iter().zip(&off[x..c0]).enumerate() {
-                        let l = w.saliency(a, b);
+                    for (i, &c) in cells[x..c0].iter().enumerate() {
+                        let l = w.saliency_cell(c);
                         if l > best.0 {
                             best = (l, x + i, y);
                         }
@@ -212,14 +209,14 @@ impl Fields {
     /// (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with `gain ≤ 16`, `w ≤ 4`, so a row of at most
     /// 99 pixels sums to `Σ L̂ < 2.1·10⁶` and `Σ L̂·x < 2.0·10⁸`), then added to `u64` totals;
     /// pixels under the floor weigh 0 instead of being branched around.
-    pub fn recentre(&mut self, on: &[u8; PIXELS], off: &[u8; PIXELS], w: &Weights, p: &Params) {
+    pub fn recentre(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             let mut peak = 0u32;
             for y in y0..=y1 {
                 let i = y * WIDTH;
-                for (&a, &b) in on[i + x0..=i + x1].iter().zip(&off[i + x0..=i + x1]) {
-                    peak = peak.max(w.saliency(a, b));
+                for &c in &maps.cells[i + x0..=i + x1] {
+                    peak = peak.max(w.saliency_cell(c));
                 }
             }
             // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
@@ -229,9 +226,8 @@ impl Fields {
             for y in y0..=y1 {
                 let i = y * WIDTH;
                 let (mut rm, mut rmx) = (0u32, 0u32);
-                let row = on[i + x0..=i + x1].iter().zip(&off[i + x0..=i + x1]);
-                for (x, (&a, &b)) in (x0 as u32..).zip(row) {
-                    let l = w.saliency(a, b);
+                for (x, &c) in (x0 as u32..).zip(&maps.cells[i + x0..=i + x1]) {
+                    let l = w.saliency_cell(c);
                     let l = if l >= floor { l } else { 0 };
                     rm = rm.wrapping_add(l);
                     rmx = rmx.wrapping_add(l.wrapping_mul(x));
@@ -249,13 +245,7 @@ impl Fields {
     }
 
     /// Eq. (3), pixel by pixel: the plain reference of [`Fields::spawn`].
-    pub fn spawn_reference(
-        &mut self,
-        on: &[u8; PIXELS],
-        off: &[u8; PIXELS],
-        w: &Weights,
-        p: &Params,
-    ) -> Option<u32> {
+    pub fn spawn_reference(&mut self, m: &Maps, w: &Weights, p: &Params) -> Option<u32> {
         if self.list.is_full() {
             return None;
         }
@@ -263,7 +253,7 @@ impl Fields {
         for y in 0..HEIGHT {
             for x in 0..WIDTH {
                 let i = y * WIDTH + x;
-                let l = w.saliency(on[i], off[i]);
+                let l = w.saliency(m.on(i), m.off(i));
                 if l > best.0 && !self.covers(x, y, p.r_af) {
                     best = (l, x, y);
                 }
@@ -273,13 +263,7 @@ impl Fields {
     }
 
     /// Eq. (4), pixel by pixel: the plain reference of [`Fields::recentre`].
-    pub fn recentre_reference(
-        &mut self,
-        on: &[u8; PIXELS],
-        off: &[u8; PIXELS],
-        w: &Weights,
-        p: &Params,
-    ) {
+    pub fn recentre_reference(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             // Weak, wide-spread change (ego-motion over texture) would drag the centroid off the
@@ -287,7 +271,7 @@ impl Fields {
             let mut peak = 0u32;
             for y in y0..=y1 {
                 for i in y * WIDTH + x0..=y * WIDTH + x1 {
-                    peak = peak.max(w.saliency(on[i], off[i]));
+                    peak = peak.max(w.saliency(maps.on(i), maps.off(i)));
                 }
             }
             let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
@@ -295,7 +279,7 @@ impl Fields {
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     let i = y * WIDTH + x;
-                    let l = u64::from(w.saliency(on[i], off[i]));
+                    let l = u64::from(w.saliency(maps.on(i), maps.off(i)));
                     if l >= floor {
                         m += l;
                         mx += l * x as u64;
@@ -360,6 +344,7 @@ impl Fields {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::PIXELS;
 
     fn p() -> Params {
         Params::default()
@@ -370,6 +355,10 @@ mod tests {
     }
 
     /// OFF map with blobs of value `v` (model saliency 4·v) at the given pixels.
+    fn cm(on: &[u8; PIXELS], off: &[u8; PIXELS]) -> crate::hrc::Cells {
+        crate::hrc::cells_of([on, off, &[0; PIXELS], &[0; PIXELS]])
+    }
+
     fn off_map(points: &[(usize, usize, u8)]) -> [u8; PIXELS] {
         let mut m = [0u8; PIXELS];
         for &(x, y, v) in points {
@@ -383,15 +372,22 @@ mod tests {
         let zero = [0u8; PIXELS];
         let mut f = Fields::default();
         // saliency 4·25 = 100 is not above T_a = 100
-        assert_eq!(f.spawn(&zero, &off_map(&[(10, 10, 25)]), &w(), &p()), None);
+        assert_eq!(
+            f.spawn(
+                &Maps::new(&cm(&zero, &off_map(&[(10, 10, 25)]))),
+                &w(),
+                &p()
+            ),
+            None
+        );
         let off = off_map(&[(10, 10, 26), (70, 40, 30)]);
-        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(0));
+        assert_eq!(f.spawn(&Maps::new(&cm(&zero, &off)), &w(), &p()), Some(0));
         let g = f.iter().next().unwrap();
         assert_eq!((g.x, g.y), (70, 40));
         // (10,10) lies outside the first square (columns 34..=98): a second field
-        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(1));
+        assert_eq!(f.spawn(&Maps::new(&cm(&zero, &off)), &w(), &p()), Some(1));
         // nothing salient is left outside both squares
-        assert_eq!(f.spawn(&zero, &off, &w(), &p()), None);
+        assert_eq!(f.spawn(&Maps::new(&cm(&zero, &off)), &w(), &p()), None);
     }
 
     #[test]
@@ -399,9 +395,9 @@ mod tests {
         let zero = [0u8; PIXELS];
         let mut f = Fields::default();
         let off = off_map(&[(90, 40, 60), (60, 40, 50), (5, 5, 40)]);
-        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(0)); // at (90,40)
-                                                               // (60,40) lies inside 90±36; (5,5) does not
-        assert_eq!(f.spawn(&zero, &off, &w(), &p()), Some(1));
+        assert_eq!(f.spawn(&Maps::new(&cm(&zero, &off)), &w(), &p()), Some(0)); // at (90,40)
+                                                                                // (60,40) lies inside 90±36; (5,5) does not
+        assert_eq!(f.spawn(&Maps::new(&cm(&zero, &off)), &w(), &p()), Some(1));
         let v: heapless::Vec<(u8, u8), 6> = f.iter().map(|g| (g.x, g.y)).collect();
         assert_eq!(&v[..], &[(90, 40), (5, 5)]);
     }
@@ -413,19 +409,19 @@ mod tests {
         f.insert(50, 30);
         // two equal blobs at x = 40 and 61, rows 20 and 30: centroid (50.5 → 51, 25)
         let off = off_map(&[(40, 20, 50), (61, 30, 50)]);
-        f.recentre(&zero, &off, &w(), &p());
+        f.recentre(&Maps::new(&cm(&zero, &off)), &w(), &p());
         let g = f.iter().next().unwrap();
         assert_eq!((g.x, g.y), (51, 25));
         // saliencies 240 and 120 → x = (240·40 + 120·61)/360 = 47
         let off = off_map(&[(40, 20, 60), (61, 20, 30)]);
-        f.recentre(&zero, &off, &w(), &p());
+        f.recentre(&Maps::new(&cm(&zero, &off)), &w(), &p());
         assert_eq!(f.iter().next().unwrap().x, 47);
         // saliency 80 is below half the peak (240): only x = 40 pulls
         let off = off_map(&[(40, 20, 60), (61, 20, 20)]);
-        f.recentre(&zero, &off, &w(), &p());
+        f.recentre(&Maps::new(&cm(&zero, &off)), &w(), &p());
         assert_eq!(f.iter().next().unwrap().x, 40);
         // nothing inside: the centroid stays
-        f.recentre(&zero, &zero, &w(), &p());
+        f.recentre(&Maps::new(&cm(&zero, &zero)), &w(), &p());
         assert_eq!(f.iter().next().unwrap().x, 40);
     }
 
@@ -504,7 +500,10 @@ mod tests {
         }
         assert_eq!(f.insert(0, 0), None);
         let off = off_map(&[(50, 50, 200)]);
-        assert_eq!(f.spawn(&[0; PIXELS], &off, &w(), &p()), None);
+        assert_eq!(
+            f.spawn(&Maps::new(&cm(&[0; PIXELS], &off)), &w(), &p()),
+            None
+        );
     }
 
     #[test]
@@ -561,10 +560,12 @@ mod tests {
                     f.insert(x, y);
                 }
                 let mut g = f.clone();
-                prop_assert_eq!(f.spawn(&on, &off, &w, &p), g.spawn_reference(&on, &off, &w, &p));
+                let cells = cm(&on, &off);
+                let m = Maps::new(&cells);
+                prop_assert_eq!(f.spawn(&m, &w, &p), g.spawn_reference(&m, &w, &p));
                 prop_assert_eq!(centroids(&f), centroids(&g));
-                f.recentre(&on, &off, &w, &p);
-                g.recentre_reference(&on, &off, &w, &p);
+                f.recentre(&m, &w, &p);
+                g.recentre_reference(&m, &w, &p);
                 prop_assert_eq!(centroids(&f), centroids(&g));
             }
         }

@@ -60,17 +60,95 @@ impl Direction {
     }
 }
 
-/// The ON and OFF maps at `t` and `t − C_d` that the correlators read.
+/// One pixel's four stored values in a word, one byte each: `on | off << 8 | on_d << 16 |
+/// off_d << 24` (the ON and OFF means at `t` and at `t − C_d`).
+///
+/// Why interleaved: one word load gives a pixel's whole state, and the byte order makes each
+/// channel's `t` and `t − C_d` values the two 16-bit lanes the correlators multiply,
+/// `[on | on_d << 16] = c & 0x00FF00FF` and `[off | off_d << 16] = c >> 8 & 0x00FF00FF`
+/// (one `UXTB16` each on the Cortex-M4), while attention reads `on`, `off` from the low half.
+/// Four byte maps take the same 28.5 KB.
+pub type Cells = [u32; PIXELS];
+
+/// Which byte of a [`Cells`] word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layer {
+    /// ON mean at `t`.
+    On = 0,
+    /// OFF mean at `t`.
+    Off = 1,
+    /// ON mean at `t − C_d`.
+    OnD = 2,
+    /// OFF mean at `t − C_d`.
+    OffD = 3,
+}
+
+impl Layer {
+    /// All four, in byte order.
+    pub const ALL: [Layer; 4] = [Layer::On, Layer::Off, Layer::OnD, Layer::OffD];
+}
+
+/// The cell of one pixel from its four values.
+#[inline(always)]
+pub const fn cell(on: u8, off: u8, on_d: u8, off_d: u8) -> u32 {
+    u32::from_le_bytes([on, off, on_d, off_d])
+}
+
+/// Cells from four byte maps, in [`Layer`] order (tests, pictures).
+pub fn cells_of(planes: [&[u8; PIXELS]; 4]) -> Cells {
+    let [on, off, on_d, off_d] = planes;
+    core::array::from_fn(|i| cell(on[i], off[i], on_d[i], off_d[i]))
+}
+
+/// The ON and OFF maps at `t` and `t − C_d` that the correlators read, as [`Cells`].
 #[derive(Clone, Copy)]
 pub struct Maps<'a> {
-    /// `on` at t.
-    pub on: &'a [u8; PIXELS],
-    /// `off` at t.
-    pub off: &'a [u8; PIXELS],
-    /// `on` at t − C_d.
-    pub on_d: &'a [u8; PIXELS],
-    /// `off` at t − C_d.
-    pub off_d: &'a [u8; PIXELS],
+    /// One word per pixel, row-major.
+    pub cells: &'a Cells,
+}
+
+impl<'a> Maps<'a> {
+    /// The maps held in `cells`.
+    pub const fn new(cells: &'a Cells) -> Self {
+        Maps { cells }
+    }
+
+    /// `layer` at pixel index `i` (0 off the retina).
+    #[inline(always)]
+    pub fn get(&self, layer: Layer, i: usize) -> u8 {
+        self.cells
+            .get(i)
+            .map_or(0, |&c| (c >> (8 * layer as u32)) as u8)
+    }
+
+    /// `on` at pixel index `i`.
+    #[inline(always)]
+    pub fn on(&self, i: usize) -> u8 {
+        self.get(Layer::On, i)
+    }
+
+    /// `off` at pixel index `i`.
+    #[inline(always)]
+    pub fn off(&self, i: usize) -> u8 {
+        self.get(Layer::Off, i)
+    }
+
+    /// `on_d` at pixel index `i`.
+    #[inline(always)]
+    pub fn on_d(&self, i: usize) -> u8 {
+        self.get(Layer::OnD, i)
+    }
+
+    /// `off_d` at pixel index `i`.
+    #[inline(always)]
+    pub fn off_d(&self, i: usize) -> u8 {
+        self.get(Layer::OffD, i)
+    }
+
+    /// One layer as a byte map (tests, pictures).
+    pub fn plane(&self, layer: Layer) -> [u8; PIXELS] {
+        core::array::from_fn(|i| self.get(layer, i))
+    }
 }
 
 /// Fixed-point factors of Eq. (7), set once per parameter set.
@@ -148,15 +226,15 @@ pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) 
     let count = sc.n.min(room / s);
     let step = stride * s as isize;
     let p = y * WIDTH + x;
-    let (on_p, on_dp) = (i32::from(m.on[p]), i32::from(m.on_d[p]));
-    let (off_p, off_dp) = (i32::from(m.off[p]), i32::from(m.off_d[p]));
+    let (on_p, on_dp) = (i32::from(m.on(p)), i32::from(m.on_d(p)));
+    let (off_p, off_dp) = (i32::from(m.off(p)), i32::from(m.off_d(p)));
     let (mut t4, mut t5) = (0i32, 0i32);
     let mut q = p as isize;
     for _ in 0..count {
         q += step;
         let qi = q as usize; // on the retina: count ≤ room / s
-        t4 += i32::from(m.on[qi]) * on_dp - i32::from(m.on_d[qi]) * on_p;
-        t5 += i32::from(m.off[qi]) * off_dp - i32::from(m.off_d[qi]) * off_p;
+        t4 += i32::from(m.on(qi)) * on_dp - i32::from(m.on_d(qi)) * on_p;
+        t5 += i32::from(m.off(qi)) * off_dp - i32::from(m.off_d(qi)) * off_p;
     }
     let lm = (sc.t4_q16 * i64::from(t4) + sc.t5_q16 * i64::from(t5)) >> sc.shift;
     lm.clamp(0, i64::from(u32::MAX)) as u32
@@ -283,22 +361,14 @@ mod tests {
         let del = bar(40, 30, true);
         let zero = [0u8; PIXELS];
         // ON only: T4 = 100·100 at (40,y) for c = 1; model units: (gain·w)² = 1
-        let m = Maps {
-            on: &now,
-            off: &zero,
-            on_d: &del,
-            off_d: &zero,
-        };
+        let cells = cells_of([&now, &zero, &del, &zero]);
+        let m = Maps::new(&cells);
         let expect = (100 * 100) >> p.lm_shift;
         assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Right), expect);
         assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Left), 0);
         // OFF only: gain² = 16 times more
-        let m = Maps {
-            on: &zero,
-            off: &now,
-            on_d: &zero,
-            off_d: &del,
-        };
+        let cells = cells_of([&zero, &now, &zero, &del]);
+        let m = Maps::new(&cells);
         assert_eq!(
             local_motion(&m, &sc, 40, 33, Direction::Right),
             (16 * 100 * 100) >> p.lm_shift
@@ -308,12 +378,8 @@ mod tests {
     #[test]
     fn the_fused_loop_equals_the_reference_correlators() {
         let maps = random_maps(99);
-        let m = Maps {
-            on: &maps[0],
-            off: &maps[1],
-            on_d: &maps[2],
-            off_d: &maps[3],
-        };
+        let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+        let m = Maps::new(&cells);
         for (n, s) in [(3u8, 1u8), (1, 1), (4, 2), (2, 4)] {
             let p = Params {
                 n,
@@ -324,8 +390,8 @@ mod tests {
             for y in 0..HEIGHT {
                 for x in 0..WIDTH {
                     for d in Direction::ALL {
-                        let t4 = correlate(m.on, m.on_d, x, y, d, sc.n, sc.s);
-                        let t5 = correlate(m.off, m.off_d, x, y, d, sc.n, sc.s);
+                        let t4 = correlate(&maps[0], &maps[2], x, y, d, sc.n, sc.s);
+                        let t5 = correlate(&maps[1], &maps[3], x, y, d, sc.n, sc.s);
                         let lm =
                             (sc.t4_q16 * i64::from(t4) + sc.t5_q16 * i64::from(t5)) >> sc.shift;
                         let want = lm.clamp(0, i64::from(u32::MAX)) as u32;

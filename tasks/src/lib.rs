@@ -29,14 +29,16 @@
 //! | luminance from YUV422, frame hand-off camera → perception | [`camera`] |
 //! | bottom-board UART protocol, wheel powers | [`motor`] |
 //! | 1 Hz summary statistics, safety and watchdog policy | [`health`] |
+//! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] |
 #![no_std]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)] // allowed in `dsp` only: single DSP instructions
 #![warn(missing_docs)]
 
 pub mod attention;
 pub mod bench;
 pub mod camera;
 pub mod control;
+pub mod dsp;
 pub mod frame;
 pub mod fsm;
 pub mod health;

@@ -17,7 +17,8 @@
 //! (outward) motion. A quadrant counts as excited only above the noise floor `q_floor`: without it
 //! sensor noise alone opens the gate now and then (`docs/model.md`).
 
-use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::dsp;
+use crate::frame::{HEIGHT, WIDTH};
 use crate::hrc::{local_motion, Direction, LmScale, Maps};
 
 /// The four quadrant sums and the LPLC2 response of one field.
@@ -195,129 +196,51 @@ const PADDED: usize = WIDTH + 2 * PAD + 1;
 /// `x0`, `x̄` and `x̄ + 1` (clamped to the square) and `x1 + 1`.
 const MAX_BP: usize = 4 * crate::network::MAX_AFS;
 
-/// Signed low half of a packed word (an `i16` lane).
+/// Byte lanes 0 and 2 of a [`Cells`](crate::hrc::Cells) word: `[on | on_d << 16]` (`>> 8` first for `off`).
+const LANES: u32 = 0x00FF_00FF;
+
+/// A cell's channels as 16-bit lane pairs, `[on | on_d << 16, off | off_d << 16]` (`UXTB16`,
+/// `UXTB16 …, ROR #8`).
 #[inline(always)]
-fn lo(v: u32) -> i32 {
-    i32::from(v as u16 as i16)
+fn unpack(c: u32) -> [u32; 2] {
+    [c & LANES, (c >> 8) & LANES]
 }
 
-/// Signed high half of a packed word (an `i16` lane).
-#[inline(always)]
-fn hi(v: u32) -> i32 {
-    (v as i32) >> 16
-}
-
-/// A packed byte pair `l | h << 16` scaled lane by lane, `a·l | b·h << 16`: both products
-/// are at most `128·255 = 32640`, positive `i16` lanes.
-#[inline(always)]
-fn scale(p: u32, a: u32, b: u32) -> u32 {
-    ((p & 0xFFFF) * a) | (((p >> 16) * b) << 16)
-}
-
-/// `row[x + PAD] = [on | off << 16, on_d | off_d << 16]` for the columns `c0..c1` of row `y`
-/// (both channel pairs side by side: one pointer and one `LDRD` in the kernel). Lane sums of
-/// up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries or borrows between
-/// the lanes.
+/// `row[x + PAD] =` [`unpack`] of the cells of row `y`, columns `c0..c1`: per channel its
+/// value at `t` and at `t − C_d` in the two 16-bit lanes of a word, the layout of the dual
+/// multiply-subtract in [`lm`] (both words side by side: one pointer and one `LDRD` in the
+/// kernel). Lane sums of up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries
+/// or borrows between the lanes.
 #[inline(always)]
 fn pack_row(row: &mut [[u32; 2]; PADDED], m: &Maps, y: usize, c0: usize, c1: usize) {
     let r = y * WIDTH;
-    fn cols(a: &[u8; PIXELS], s: usize, e: usize) -> &[u8] {
-        a.get(s..e).unwrap_or_default()
-    }
-    let span = |a| cols(a, r + c0, r + c1);
-    let it = span(m.on)
-        .iter()
-        .zip(span(m.off))
-        .zip(span(m.on_d).iter().zip(span(m.off_d)));
-    for (p, ((&on, &off), (&on_d, &off_d))) in row[c0 + PAD..c1 + PAD].iter_mut().zip(it) {
-        *p = [
-            u32::from(on) | u32::from(off) << 16,
-            u32::from(on_d) | u32::from(off_d) << 16,
-        ];
+    let cells = m.cells.get(r + c0..r + c1).unwrap_or_default();
+    for (p, &c) in row[c0 + PAD..c1 + PAD].iter_mut().zip(cells) {
+        *p = unpack(c);
     }
 }
 
 /// `out[x] = Σ_{k<K} row(x, r0 + k)` (packed as in [`pack_row`]) for columns `c0..c1`: a
-/// vertical neighbour sum of `K` rows, all on the retina.
-///
-/// Four columns per step, one word load per map and row: the even and odd bytes of the `K`
-/// words are summed in 16-bit lanes (`w & 0x00FF00FF`, `w >> 8 & 0x00FF00FF`: a lane sum of
-/// `K ≤ 4` bytes is ≤ 1020, no carry), then the `on` and `off` lanes of a column are paired
-/// (`PKHBT`/`PKHTB` on the Cortex-M4). Leftover columns (fewer than 4) one by one.
+/// vertical neighbour sum of `K` rows, all on the retina. One word load per cell, both
+/// channels' lanes summed with `UXTAB16` (a lane sum of `K ≤ 4` bytes is ≤ 1020, no carry).
+/// The cells of a column are `WIDTH` apart in one window of the `K` rows, whose length is a
+/// constant: no bounds test per load.
 #[inline(always)]
 fn vsum_k<const K: usize>(out: &mut [[u32; 2]; WIDTH], m: &Maps, r0: usize, c0: usize, c1: usize) {
     let out = &mut out[c0..c1];
-    let len = out.len();
-    let groups = len / 4;
-    // the K rows of a map from column c0: one slice, row k at offset k·WIDTH; it ends at
-    // (r0 + K − 1)·WIDTH + c0 + 4·groups ≤ PIXELS (row r0 + K − 1 is on the retina, c0 + len ≤
-    // WIDTH), so `get` always succeeds; were it not to, the group loop would not run
+    // rows r0 .. r0 + K from column c0 (on the retina: c0 + len ≤ WIDTH and row r0 + K − 1 <
+    // HEIGHT; were they not, the block would be empty and `out` keep its old values)
     let base = r0 * WIDTH + c0;
-    let span = (K - 1) * WIDTH + 4 * groups;
-    fn rows(a: &[u8; PIXELS], base: usize, span: usize) -> &[u8] {
-        a.get(base..base + span).unwrap_or_default()
-    }
-    let (on, off) = (rows(m.on, base, span), rows(m.off, base, span));
-    let (on_d, off_d) = (rows(m.on_d, base, span), rows(m.off_d, base, span));
-    let ok = [on, off, on_d, off_d].iter().all(|s| s.len() == span);
-    const LANES: u32 = 0x00FF_00FF;
-    // even and odd columns of four, summed over the K rows: one bounds test per map and group
-    // (the block spans the K rows), none per word
-    #[inline(always)]
-    fn sums<const K: usize>(s: &[u8], i: usize) -> (u32, u32) {
-        let (mut e, mut o) = (0u32, 0u32);
-        let Some(blk) = s.get(i..i + (K - 1) * WIDTH + 4) else {
-            return (0, 0);
-        };
+    let span = (K - 1) * WIDTH + 1;
+    let blk = m.cells.get(base..base + span - 1 + out.len());
+    for (o, w) in out.iter_mut().zip(blk.unwrap_or_default().windows(span)) {
+        let (mut on, mut off) = (0u32, 0u32);
         for k in 0..K {
-            let w = blk[k * WIDTH..]
-                .first_chunk::<4>()
-                .map_or(0, |b| u32::from_le_bytes(*b));
-            e += w & LANES;
-            o += (w >> 8) & LANES;
+            let c = w[k * WIDTH];
+            on = dsp::uxtab16(on, c);
+            off = dsp::uxtab16_ror8(off, c);
         }
-        (e, o)
-    }
-    // [lo | hi << 16] for the even (0, 2) and odd (1, 3) columns of four
-    #[inline(always)]
-    fn pair(lo: u32, hi: u32) -> [u32; 2] {
-        [(lo & 0xFFFF) | (hi << 16), (lo >> 16) | (hi & 0xFFFF_0000)]
-    }
-    let (quads, rest) = out.split_at_mut(if ok { 4 * groups } else { 0 });
-    for (g, q) in quads.chunks_exact_mut(4).enumerate() {
-        let i = 4 * g;
-        let (on_e, on_o) = sums::<K>(on, i);
-        let (off_e, off_o) = sums::<K>(off, i);
-        let (ond_e, ond_o) = sums::<K>(on_d, i);
-        let (offd_e, offd_o) = sums::<K>(off_d, i);
-        let (n_e, n_o) = (pair(on_e, off_e), pair(on_o, off_o));
-        let (d_e, d_o) = (pair(ond_e, offd_e), pair(ond_o, offd_o));
-        q[0] = [n_e[0], d_e[0]];
-        q[1] = [n_o[0], d_o[0]];
-        q[2] = [n_e[1], d_e[1]];
-        q[3] = [n_o[1], d_o[1]];
-    }
-    let done = len - rest.len();
-    fn rows_of<const K: usize>(a: &[u8; PIXELS], r0: usize, c0: usize, len: usize) -> [&[u8]; K] {
-        core::array::from_fn(|k| {
-            a.get((r0 + k) * WIDTH + c0..)
-                .map_or(&[][..], |r| &r[..len.min(r.len())])
-        })
-    }
-    let c = c0 + done;
-    let n = rest.len();
-    let rows = |a| rows_of::<K>(a, r0, c, n);
-    let (on, off, on_d, off_d) = (rows(m.on), rows(m.off), rows(m.on_d), rows(m.off_d));
-    for (i, o) in rest.iter_mut().enumerate() {
-        let mut s = [0u32; 4];
-        for k in 0..K {
-            let at = |r: &[&[u8]; K]| r[k].get(i).copied().map_or(0, u32::from);
-            s[0] += at(&on);
-            s[1] += at(&off);
-            s[2] += at(&on_d);
-            s[3] += at(&off_d);
-        }
-        *o = [s[0] | s[1] << 16, s[2] | s[3] << 16];
+        *o = [on, off];
     }
 }
 
@@ -343,40 +266,49 @@ fn vsum(out: &mut [[u32; 2]; WIDTH], m: &Maps, y: usize, up: bool, n: usize, c0:
 /// What the row kernel reads for one row `y`.
 #[derive(Clone, Copy)]
 struct RowCtx<'a> {
-    /// Row `y` packed ([`pack_row`]) at `t` and `t − C_d`, column `x` at index `x + PAD`.
+    /// Row `y` packed ([`pack_row`]) per channel at `t` and `t − C_d`, column `x` at index
+    /// `x + PAD`.
     row: &'a [[u32; 2]; PADDED],
     /// Its vertical neighbour sums (one direction), column `x` at index `x`.
     vs: &'a [[u32; 2]; WIDTH],
     /// `a` and `b` of [`Narrow`] (≤ 128, so `a·L` of a byte fits an `i16` lane).
-    a: u16,
-    b: u16,
+    a: u32,
+    b: u32,
     shift: u32,
 }
 
-/// Eq. (7), rectified, from the pixel's pre-scaled own values and its packed neighbour sums:
+/// Eq. (7), rectified, from the pixel's own scaled values and its packed neighbour sums:
 ///
 /// `T = Σ_c [L(q_c,t)·L(p,t−C_d) − L(q_c,t−C_d)·L(p,t)] = L(p,t−C_d)·S(t) − L(p,t)·S(t−C_d)`
-/// with `S = Σ_c L(q_c)` (Eq. 6), so `a·T4 + b·T5 = a·on_d·S_on + b·off_d·S_off
-/// − a·on·S_on_d − b·off·S_off_d`: four 16x16 products of packed lanes
-/// (`own_d = a·on_d | b·off_d << 16`, `own_n = a·on | b·off << 16`,
-/// `sn = S_on | S_off << 16`, `sd` likewise), two dual multiply-adds and a subtraction on the
-/// Cortex-M4. Every product is below `32640·1020 < 2^25`: no `i32` overflow.
+/// with `S = Σ_c L(q_c)` (Eq. 6). Per channel the own word holds `[a·L(p,t) | a·L(p,t−C_d)]`
+/// and the sum word `[S(t) | S(t−C_d)]`, so `a·T` is one dual multiply-subtract with exchanged
+/// halves (`SMUSDX`), `+ b·T5` a second one (`SMLSDX`), and the scaling and half-wave
+/// rectification `max(0, · >> SH)` one `USAT` ([`dsp`](crate::dsp)). Every product is below
+/// `32640·1020 < 2^25`: no `i32` overflow. `SH = 0` takes the shift from `shift` instead.
 #[inline(always)]
-fn lm(own_d: u32, own_n: u32, sn: u32, sd: u32, shift: u32) -> u32 {
-    let pre = (lo(own_d) * lo(sn) + hi(own_d) * hi(sn)) - (lo(own_n) * lo(sd) + hi(own_n) * hi(sd));
-    // rectified; a row's sum stays below u32::MAX (Narrow::new)
-    (pre >> shift).max(0) as u32
+fn lm<const SH: u32>(own_on: u32, own_off: u32, s_on: u32, s_off: u32, shift: u32) -> u32 {
+    let pre = dsp::smlsdx(s_off, own_off, dsp::smusdx(s_on, own_on));
+    if SH == 0 {
+        // a row's sum stays below u32::MAX (Narrow::new)
+        (pre >> shift).max(0) as u32
+    } else {
+        dsp::rectify_asr::<SH>(pre)
+    }
 }
 
 /// `[Σ LM_r, Σ LM_l, Σ LM_v]` over the columns `s..e` of the row, `N` connected neurons: `v`
-/// (the direction of `vn`/`vd`) always, `r` if `R`, `l` if `L` (0 for a direction not asked:
-/// a segment right of every field's centroid needs no `l`, Eq. 8).
+/// (the direction of the vertical sums `vs`) always, `r` if `R`, `l` if `L` (0 for a direction
+/// not asked: a segment right of every field's centroid needs no `l`, Eq. 8). `SH` as in [`lm`].
 ///
 /// Horizontal neighbour sums are running windows in registers:
 /// `R(x) = Σ_{c=1..N} P(x + c)`, `R(x+1) = R(x) + P(x+1+N) − P(x+1)`;
 /// `L(x) = Σ_{c=1..N} P(x − c)`, `L(x+1) = L(x) + P(x) − P(x−N)` (zeros off the retina).
 #[inline(always)]
-fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: usize) -> [u32; 3] {
+fn seg<const R: bool, const L: bool, const N: usize, const SH: u32>(
+    r: &RowCtx,
+    s: usize,
+    e: usize,
+) -> [u32; 3] {
     // P(x) sits at index x + PAD; the windows span P(x − N ..= x + N + 1)
     let (i0, i1) = (s + PAD - N, e + PAD + N + 1);
     let row = &r.row[i0..i1];
@@ -385,26 +317,26 @@ fn seg<const R: bool, const L: bool, const N: usize>(r: &RowCtx, s: usize, e: us
             [a[0].wrapping_add(v[0]), a[1].wrapping_add(v[1])]
         })
     };
-    let [mut ln, mut ld] = sum(&row[..N]);
-    let [mut rn, mut rd] = sum(&row[N + 1..2 * N + 1]);
-    let (a, b) = (u32::from(r.a), u32::from(r.b));
-    let shift = r.shift;
+    let [mut l_on, mut l_off] = sum(&row[..N]);
+    let [mut r_on, mut r_off] = sum(&row[N + 1..2 * N + 1]);
+    let (a, b, shift) = (r.a, r.b, r.shift);
     let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
-    for (w, &[vn, vd]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
-        let [pn, pd] = w[N];
-        let (own_d, own_n) = (scale(pd, a, b), scale(pn, a, b));
-        sv = sv.wrapping_add(lm(own_d, own_n, vn, vd, shift));
+    for (w, &[v_on, v_off]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
+        let [p_on, p_off] = w[N];
+        // both lanes scaled at once: a·L, b·L ≤ 32640 never carry into the next lane
+        let (own_on, own_off) = (p_on * a, p_off * b);
+        sv = sv.wrapping_add(lm::<SH>(own_on, own_off, v_on, v_off, shift));
         if R {
-            sr = sr.wrapping_add(lm(own_d, own_n, rn, rd, shift));
-            let ([en, ed], [ln_, ld_]) = (w[2 * N + 1], w[N + 1]);
-            rn = rn.wrapping_add(en).wrapping_sub(ln_);
-            rd = rd.wrapping_add(ed).wrapping_sub(ld_);
+            sr = sr.wrapping_add(lm::<SH>(own_on, own_off, r_on, r_off, shift));
+            let ([e_on, e_off], [x_on, x_off]) = (w[2 * N + 1], w[N + 1]);
+            r_on = r_on.wrapping_add(e_on).wrapping_sub(x_on);
+            r_off = r_off.wrapping_add(e_off).wrapping_sub(x_off);
         }
         if L {
-            sl = sl.wrapping_add(lm(own_d, own_n, ln, ld, shift));
-            let [on_, od_] = w[0];
-            ln = ln.wrapping_add(pn).wrapping_sub(on_);
-            ld = ld.wrapping_add(pd).wrapping_sub(od_);
+            sl = sl.wrapping_add(lm::<SH>(own_on, own_off, l_on, l_off, shift));
+            let [x_on, x_off] = w[0];
+            l_on = l_on.wrapping_add(p_on).wrapping_sub(x_on);
+            l_off = l_off.wrapping_add(p_off).wrapping_sub(x_off);
         }
     }
     [sr, sl, sv]
@@ -421,13 +353,13 @@ fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize)
             shift: 8,
             ..*r
         };
-        return seg::<R, L, 3>(&paper, s, e);
+        return seg::<R, L, 3, 8>(&paper, s, e);
     }
     match n {
-        1 => seg::<R, L, 1>(r, s, e),
-        2 => seg::<R, L, 2>(r, s, e),
-        3 => seg::<R, L, 3>(r, s, e),
-        _ => seg::<R, L, 4>(r, s, e),
+        1 => seg::<R, L, 1, 0>(r, s, e),
+        2 => seg::<R, L, 2, 0>(r, s, e),
+        3 => seg::<R, L, 3, 0>(r, s, e),
+        _ => seg::<R, L, 4, 0>(r, s, e),
     }
 }
 
@@ -522,8 +454,8 @@ pub fn integrate_rows(
         let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
         pack_row(&mut row, m, y, p0, p1);
         vsum(&mut vs, m, y, up, n, ua, ub);
-        let a = u16::try_from(nw.a).unwrap_or(0);
-        let b = u16::try_from(nw.b).unwrap_or(0);
+        let a = u32::try_from(nw.a).unwrap_or(0);
+        let b = u32::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
         // prefix sums over the segments in `pre`: [r, l, primary vertical, second vertical]
         {
@@ -645,6 +577,8 @@ pub fn integrate_all_general(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::PIXELS;
+    use crate::hrc::cells_of;
     use crate::params::Params;
     use proptest::prelude::*;
 
@@ -692,22 +626,14 @@ mod tests {
         let cols = (14, 86);
         let rows = (0, 71);
         // OFF channel edges: expanding = small at t−1, large at t
-        let grow = Maps {
-            on: &zero,
-            off: &large,
-            on_d: &zero,
-            off_d: &small,
-        };
+        let grow = cells_of([&zero, &large, &zero, &small]);
+        let grow = Maps::new(&grow);
         let l = integrate(&grow, &sc, (50, 36), cols, rows, 0, 0);
         assert!(l.quadrants.iter().all(|&q| q > 0), "{:?}", l.quadrants);
         assert_eq!(l.quadrants[0], l.quadrants[2], "symmetric stimulus");
         assert_eq!(l.response, l.quadrants.iter().sum::<u32>());
-        let shrink = Maps {
-            on: &zero,
-            off: &small,
-            on_d: &zero,
-            off_d: &large,
-        };
+        let shrink = cells_of([&zero, &small, &zero, &large]);
+        let shrink = Maps::new(&shrink);
         let l = integrate(&shrink, &sc, (50, 36), cols, rows, 0, 0);
         assert_eq!(l.quadrants, [0; 4]);
         assert_eq!(l.response, 0);
@@ -719,12 +645,8 @@ mod tests {
         let sc = LmScale::new(&p);
         // pseudo-random maps with plenty of motion in every direction
         let maps = crate::hrc::random_maps(12345);
-        let m = Maps {
-            on: &maps[0],
-            off: &maps[1],
-            on_d: &maps[2],
-            off_d: &maps[3],
-        };
+        let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+        let m = Maps::new(&cells);
         let regions = [
             Region {
                 centre: (10, 10),
@@ -842,7 +764,8 @@ mod tests {
             regions in prop::collection::vec(region(), 0..=crate::network::MAX_AFS),
         ) {
             let maps = maps_of(seed, kind);
-            let m = Maps { on: &maps[0], off: &maps[1], on_d: &maps[2], off_d: &maps[3] };
+            let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+            let m = Maps::new(&cells);
             let s = if u32::from(n) * u32::from(s) > 8 { 1 } else { s };
             let p = Params { n, s, gain, w, lm_shift, ..Params::PAPER };
             prop_assert_eq!(p.validate(), Ok(()));

@@ -229,9 +229,8 @@ impl Network {
 
         // Eqs. (3)–(5).
         let maps = self.retina.maps();
-        let (on, off) = (maps.on, maps.off);
-        self.fields.spawn(on, off, &self.weights, &p);
-        self.fields.recentre(on, off, &self.weights, &p);
+        self.fields.spawn(&maps, &self.weights, &p);
+        self.fields.recentre(&maps, &self.weights, &p);
         self.fields.fuse(p.r_af);
         mark(Stage::Attention);
 
@@ -294,9 +293,9 @@ impl Network {
     /// for bit.
     pub fn digest(&self) -> u32 {
         let mut h = Fnv::new();
-        let m = self.retina.maps();
-        for map in [&self.retina.prev()[..], m.on, m.off, m.on_d, m.off_d] {
-            h.bytes(map);
+        h.bytes(self.retina.prev());
+        for &c in self.retina.maps().cells {
+            h.u32(c);
         }
         h.u32(self.frames);
         for f in self.fields.iter() {

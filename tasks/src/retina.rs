@@ -22,6 +22,7 @@
 //! tests hold the streaming form to.
 
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
+use crate::hrc::{Cells, Maps};
 use crate::params::Params;
 
 /// Rows a streamed frame has; a row index beyond this is refused.
@@ -56,10 +57,8 @@ impl core::error::Error for RowError {}
 #[derive(Clone)]
 pub struct Retina {
     prev: Frame,
-    on: [u8; PIXELS],
-    off: [u8; PIXELS],
-    on_d: [u8; PIXELS],
-    off_d: [u8; PIXELS],
+    /// The means at `t` and `t − C_d`, one word per pixel ([`Cells`]).
+    cells: Cells,
     /// Horizontal 3-sums of the rectified change of the last rows, row `y` in slot `y % 3`,
     /// packed `on | off << 16`: a lane holds at most 3 · 255, three rows 2295, so adding
     /// packed words never carries from one lane into the other.
@@ -77,10 +76,7 @@ impl Retina {
     pub const fn new(delay_q8: i32) -> Self {
         Retina {
             prev: [0; PIXELS],
-            on: [0; PIXELS],
-            off: [0; PIXELS],
-            on_d: [0; PIXELS],
-            off_d: [0; PIXELS],
+            cells: [0; PIXELS],
             h: [[0; WIDTH]; 3],
             rows: 0,
             primed: false,
@@ -157,10 +153,9 @@ impl Retina {
     /// Row `y`'s 3x3 means from the ring (rows outside the retina sum to 0); the old means go
     /// through the delay line first. One pass for both channels.
     ///
-    /// With the paper's `C_d = 2` (`g = 128`) the delay line runs on four pixels per word
-    /// ([`half_step4`]); any other gain takes [`delay_step`] pixel by pixel. Either way the maps
-    /// are read and written a word (four pixels) at a time, the 3 leftover pixels of a row one
-    /// by one.
+    /// With the paper's `C_d = 2` (`g = 128`) the delay line runs on two pixels' `[on, off]`
+    /// bytes per word ([`half_step4`]); any other gain takes [`delay_step`] pixel by pixel.
+    /// Either way each pixel's cell is read and written once.
     fn finish_row(&mut self, y: usize) {
         const ZERO: [u32; WIDTH] = [0; WIDTH];
         let above = if y == 0 { &ZERO } else { &self.h[(y + 2) % 3] };
@@ -170,31 +165,20 @@ impl Retina {
             &self.h[(y + 1) % 3]
         };
         let mid = &self.h[y % 3];
-        let r = y * WIDTH..(y + 1) * WIDTH;
-        let (Some(on), Some(off), Some(on_d), Some(off_d)) = (
-            self.on.get_mut(r.clone()),
-            self.off.get_mut(r.clone()),
-            self.on_d.get_mut(r.clone()),
-            self.off_d.get_mut(r),
-        ) else {
+        let Some(cells) = self.cells.get_mut(y * WIDTH..(y + 1) * WIDTH) else {
             return;
         };
         let g = self.delay_q8;
         if g == 128 {
-            finish_maps::<true>(above, mid, below, on, off, on_d, off_d, g);
+            finish_cells::<true>(above, mid, below, cells, g);
         } else {
-            finish_maps::<false>(above, mid, below, on, off, on_d, off_d, g);
+            finish_cells::<false>(above, mid, below, cells, g);
         }
     }
 
     /// The newest ON/OFF means (`t`) and their delayed copies, as the correlators read them.
-    pub fn maps(&self) -> crate::hrc::Maps<'_> {
-        crate::hrc::Maps {
-            on: &self.on,
-            off: &self.off,
-            on_d: &self.on_d,
-            off_d: &self.off_d,
-        }
+    pub fn maps(&self) -> Maps<'_> {
+        Maps::new(&self.cells)
     }
 
     /// The previous frame `P(t−1)` (after a frame ends: that frame).
@@ -230,67 +214,48 @@ fn delay_step(d: u8, l: u8, gain_q8: i32) -> u8 {
     (i32::from(d) + step) as u8
 }
 
-/// One row of [`Retina::finish_row`]: `on_d ← delay(on_d, on)`, `off_d ← delay(off_d, off)`,
-/// then `on`, `off` ← the 3x3 means `div9(above + mid + below)` of the packed ring rows.
-/// `HALF`: the gain is 128 and the delay runs by [`half_step4`] on whole words.
+/// One row of [`Retina::finish_row`] on its [`Cells`]: `on_d ← delay(on_d, on)`,
+/// `off_d ← delay(off_d, off)`, then `on`, `off` ← the 3x3 means `div9(above + mid + below)`
+/// of the packed ring rows. `HALF`: the gain is 128 and the delay runs by [`half_step4`] on two
+/// pixels per word (`[on_d, off_d]` of both against `[on, off]` of both).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn finish_maps<const HALF: bool>(
+fn finish_cells<const HALF: bool>(
     above: &[u32; WIDTH],
     mid: &[u32; WIDTH],
     below: &[u32; WIDTH],
-    on: &mut [u8],
-    off: &mut [u8],
-    on_d: &mut [u8],
-    off_d: &mut [u8],
+    cells: &mut [u32],
     g: i32,
 ) {
-    let (a4, a_t) = above.as_chunks::<4>();
-    let (m4, m_t) = mid.as_chunks::<4>();
-    let (b4, b_t) = below.as_chunks::<4>();
-    let (on4, on_t) = on.as_chunks_mut::<4>();
-    let (off4, off_t) = off.as_chunks_mut::<4>();
-    let (ond4, ond_t) = on_d.as_chunks_mut::<4>();
-    let (offd4, offd_t) = off_d.as_chunks_mut::<4>();
-    let sums = a4.iter().zip(m4).zip(b4);
-    let maps = on4
-        .iter_mut()
-        .zip(off4.iter_mut())
-        .zip(ond4.iter_mut().zip(offd4.iter_mut()));
-    for (((a, m), b), ((on, off), (on_d, off_d))) in sums.zip(maps) {
-        if HALF {
-            let l = u32::from_le_bytes(*on);
-            *on_d = half_step4(u32::from_le_bytes(*on_d), l).to_le_bytes();
-            let l = u32::from_le_bytes(*off);
-            *off_d = half_step4(u32::from_le_bytes(*off_d), l).to_le_bytes();
-        } else {
-            for (d, &l) in on_d.iter_mut().zip(on.iter()) {
-                *d = delay_step(*d, l, g);
-            }
-            for (d, &l) in off_d.iter_mut().zip(off.iter()) {
-                *d = delay_step(*d, l, g);
-            }
-        }
-        let (mut won, mut woff) = (0u32, 0u32);
-        for i in 0..4 {
-            let s = a[i] + m[i] + b[i];
-            won |= u32::from(div9_lo(s)) << (8 * i);
-            woff |= u32::from(div9_hi(s)) << (8 * i);
-        }
-        *on = won.to_le_bytes();
-        *off = woff.to_le_bytes();
+    // the new means of a pixel, `on | off << 8`, from its packed 3x3 sum
+    #[inline(always)]
+    fn means(s: u32) -> u32 {
+        u32::from(div9_lo(s)) | u32::from(div9_hi(s)) << 8
     }
-    let sums = a_t.iter().zip(m_t).zip(b_t);
-    let maps = on_t
-        .iter_mut()
-        .zip(off_t.iter_mut())
-        .zip(ond_t.iter_mut().zip(offd_t.iter_mut()));
-    for (((&a, &m), &b), ((on, off), (on_d, off_d))) in sums.zip(maps) {
-        let s = a + m + b;
-        *on_d = delay_step(*on_d, *on, g);
-        *off_d = delay_step(*off_d, *off, g);
-        *on = div9(s as u16);
-        *off = div9((s >> 16) as u16);
+    // one pixel's delay line by `delay_step`: the old means (low half) into the delayed ones
+    #[inline(always)]
+    fn delayed(c: u32, g: i32) -> u32 {
+        let [on, off, on_d, off_d] = c.to_le_bytes();
+        u32::from(delay_step(on_d, on, g)) << 16 | u32::from(delay_step(off_d, off, g)) << 24
+    }
+    let (a2, a_t) = above.as_chunks::<2>();
+    let (m2, m_t) = mid.as_chunks::<2>();
+    let (b2, b_t) = below.as_chunks::<2>();
+    let (c2, c_t) = cells.as_chunks_mut::<2>();
+    for (((a, m), b), c) in a2.iter().zip(m2).zip(b2).zip(c2.iter_mut()) {
+        let d = if HALF {
+            // [on_d, off_d] of both pixels against their [on, off]: PKHTB / PKHBT
+            let d = (c[0] >> 16) | (c[1] & 0xFFFF_0000);
+            let l = (c[0] & 0xFFFF) | (c[1] << 16);
+            let n = half_step4(d, l);
+            [n << 16, n & 0xFFFF_0000]
+        } else {
+            [delayed(c[0], g), delayed(c[1], g)]
+        };
+        c[0] = means(a[0] + m[0] + b[0]) | d[0];
+        c[1] = means(a[1] + m[1] + b[1]) | d[1];
+    }
+    for (((&a, &m), &b), c) in a_t.iter().zip(m_t).zip(b_t).zip(c_t.iter_mut()) {
+        *c = means(a + m + b) | delayed(*c, g);
     }
 }
 
@@ -450,11 +415,18 @@ impl Weights {
     pub fn saliency(&self, on: u8, off: u8) -> u32 {
         (self.on_q8 * u32::from(on) + self.off_q8 * u32::from(off)) >> 8
     }
+
+    /// [`Weights::saliency`] of a pixel's [`Cells`] word (its `on` and `off` bytes).
+    #[inline(always)]
+    pub fn saliency_cell(&self, c: u32) -> u32 {
+        (self.on_q8 * (c & 0xFF) + self.off_q8 * (c >> 8 & 0xFF)) >> 8
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hrc::Layer;
 
     #[test]
     fn div9_is_exact_floor_on_its_range() {
@@ -576,8 +548,9 @@ mod tests {
                 on_off_mean(&cur, &prev, &mut on, &mut off);
                 assert_eq!(stream(&mut r, &cur), Ok(true));
                 let m = r.maps();
-                assert!(m.on == &on && m.off == &off, "means, frame {t} gain {gain}");
-                assert!(m.on_d == &on_d && m.off_d == &off_d, "delayed, frame {t}");
+                let planes = Layer::ALL.map(|l| m.plane(l));
+                assert!(planes[..2] == [on, off], "means, frame {t} gain {gain}");
+                assert!(planes[2..] == [on_d, off_d], "delayed, frame {t}");
                 assert_eq!(r.prev(), &cur);
                 prev = cur;
             }
