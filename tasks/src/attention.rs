@@ -205,36 +205,52 @@ impl Fields {
 
     /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
     ///
-    /// Same result as [`Fields::recentre_reference`]. A row's moments are summed in `u32`
-    /// (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with `gain ≤ 16`, `w ≤ 4`, so a row of at most
-    /// 99 pixels sums to `Σ L̂ < 2.1·10⁶` and `Σ L̂·x < 2.0·10⁸`), then added to `u64` totals;
-    /// pixels under the floor weigh 0 instead of being branched around.
+    /// Same result as [`Fields::recentre_reference`]. The peak is taken on the saliencies
+    /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel). A
+    /// row's moments are summed in `u32` (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with
+    /// `gain ≤ 16`, `w ≤ 4`, so a row of at most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then
+    /// added to `u64` totals; pixels under the floor weigh 0 instead of being branched around.
+    /// The row's `Σ L̂·x` comes from running sums, `S_x = Σ_{x' ≤ x} L̂_x'` and `T = Σ_x S_x`:
+    /// `Σ L̂_x·x = (x1 + 1)·S − T` (`T ≤ 99·S < 2.1·10⁸`), two additions per pixel and no
+    /// column counter.
     pub fn recentre(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             let mut peak = 0u32;
             for y in y0..=y1 {
                 let i = y * WIDTH;
-                for &c in &maps.cells[i + x0..=i + x1] {
-                    peak = peak.max(w.saliency_cell(c));
+                let mut max = |c: u32| peak = peak.max(w.saliency_q8_cell(c));
+                // four pixels per iteration: one loop branch per four, not an end test per pixel
+                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
+                for q in quads {
+                    q.iter().for_each(|&c| max(c));
                 }
+                rest.iter().for_each(|&c| max(c));
             }
+            let peak = peak >> 8;
             // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
             let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
             let floor = u32::try_from(floor).unwrap_or(u32::MAX);
             let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
             for y in y0..=y1 {
                 let i = y * WIDTH;
-                let (mut rm, mut rmx) = (0u32, 0u32);
-                for (x, &c) in (x0 as u32..).zip(&maps.cells[i + x0..=i + x1]) {
+                let (mut s, mut t) = (0u32, 0u32);
+                let mut add = |c: u32| {
                     let l = w.saliency_cell(c);
                     let l = if l >= floor { l } else { 0 };
-                    rm = rm.wrapping_add(l);
-                    rmx = rmx.wrapping_add(l.wrapping_mul(x));
+                    s = s.wrapping_add(l);
+                    t = t.wrapping_add(s);
+                };
+                // four pixels per iteration, as for the peak
+                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
+                for q in quads {
+                    q.iter().for_each(|&c| add(c));
                 }
-                m += u64::from(rm);
-                mx += u64::from(rmx);
-                my += u64::from(rm) * y as u64;
+                rest.iter().for_each(|&c| add(c));
+                let sx = (x1 as u32 + 1).wrapping_mul(s).wrapping_sub(t);
+                m += u64::from(s);
+                mx += u64::from(sx);
+                my += u64::from(s) * y as u64;
             }
             // round to nearest; the quotient lies inside the square, so it fits a byte
             if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {

@@ -419,7 +419,13 @@ impl Weights {
     /// [`Weights::saliency`] of a pixel's [`Cells`] word (its `on` and `off` bytes).
     #[inline(always)]
     pub fn saliency_cell(&self, c: u32) -> u32 {
-        (self.on_q8 * (c & 0xFF) + self.off_q8 * (c >> 8 & 0xFF)) >> 8
+        self.saliency_q8_cell(c) >> 8
+    }
+
+    /// [`Weights::saliency_cell`] before its `>> 8` (Q8), for comparisons.
+    #[inline(always)]
+    pub fn saliency_q8_cell(&self, c: u32) -> u32 {
+        self.on_q8 * (c & 0xFF) + self.off_q8 * (c >> 8 & 0xFF)
     }
 }
 
