@@ -304,7 +304,7 @@ fn lm<const SH: u32>(own_on: u32, own_off: u32, s_on: u32, s_off: u32, shift: u3
 /// `R(x) = Σ_{c=1..N} P(x + c)`, `R(x+1) = R(x) + P(x+1+N) − P(x+1)`;
 /// `L(x) = Σ_{c=1..N} P(x − c)`, `L(x+1) = L(x) + P(x) − P(x−N)` (zeros off the retina).
 #[inline(always)]
-fn seg<const R: bool, const L: bool, const N: usize, const SH: u32>(
+fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u32>(
     r: &RowCtx,
     s: usize,
     e: usize,
@@ -325,7 +325,9 @@ fn seg<const R: bool, const L: bool, const N: usize, const SH: u32>(
         let [p_on, p_off] = w[N];
         // both lanes scaled at once: a·L, b·L ≤ 32640 never carry into the next lane
         let (own_on, own_off) = (p_on * a, p_off * b);
-        sv = sv.wrapping_add(lm::<SH>(own_on, own_off, v_on, v_off, shift));
+        if V {
+            sv = sv.wrapping_add(lm::<SH>(own_on, own_off, v_on, v_off, shift));
+        }
         if R {
             sr = sr.wrapping_add(lm::<SH>(own_on, own_off, r_on, r_off, shift));
             let ([e_on, e_off], [x_on, x_off]) = (w[2 * N + 1], w[N + 1]);
@@ -342,7 +344,25 @@ fn seg<const R: bool, const L: bool, const N: usize, const SH: u32>(
     [sr, sl, sv]
 }
 
-/// [`seg`] for the row's `n`.
+/// [`seg`] with the vertical direction, `r` if `R` and `l` if `L`; both `r` and `l` in two
+/// passes (`r` with the vertical, then `l`), which keeps each loop's running sums in registers
+/// where one loop with all three spilled.
+#[inline(always)]
+fn seg_vs<const R: bool, const L: bool, const N: usize, const SH: u32>(
+    r: &RowCtx,
+    s: usize,
+    e: usize,
+) -> [u32; 3] {
+    if R && L {
+        let [sr, _, sv] = seg::<true, false, true, N, SH>(r, s, e);
+        let [_, sl, _] = seg::<false, true, false, N, SH>(r, s, e);
+        [sr, sl, sv]
+    } else {
+        seg::<R, L, true, N, SH>(r, s, e)
+    }
+}
+
+/// [`seg_vs`] for the row's `n`.
 #[inline(always)]
 fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
     if (n, r.a, r.b, r.shift) == (3, 1, 16, 8) {
@@ -353,13 +373,13 @@ fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize)
             shift: 8,
             ..*r
         };
-        return seg::<R, L, 3, 8>(&paper, s, e);
+        return seg_vs::<R, L, 3, 8>(&paper, s, e);
     }
     match n {
-        1 => seg::<R, L, 1, 0>(r, s, e),
-        2 => seg::<R, L, 2, 0>(r, s, e),
-        3 => seg::<R, L, 3, 0>(r, s, e),
-        _ => seg::<R, L, 4, 0>(r, s, e),
+        1 => seg_vs::<R, L, 1, 0>(r, s, e),
+        2 => seg_vs::<R, L, 2, 0>(r, s, e),
+        3 => seg_vs::<R, L, 3, 0>(r, s, e),
+        _ => seg_vs::<R, L, 4, 0>(r, s, e),
     }
 }
 
