@@ -21,6 +21,7 @@
 //! ([`delay`]) and then stores the new one. [`on_off_mean`] is the plain whole-frame reference the
 //! tests hold the streaming form to.
 
+use crate::dsp;
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
 use crate::hrc::{Cells, Maps};
 use crate::params::Params;
@@ -356,21 +357,56 @@ fn rectified(c: u8, p: u8) -> u32 {
     }
 }
 
-/// [`row_sums`] for both channels at once, packed (see [`Retina`]): a sliding window over the
-/// row instead of a padded copy.
+/// [`rectified`] of four pixels, one per byte of `c` and `p`: the ON bytes are `c − p`
+/// saturated at 0 and the OFF bytes `p − c` (`UQSUB8` twice); `PKHBT`/`PKHTB` put each
+/// pixel's ON and OFF bytes in the byte lanes 0 and 2 or 1 and 3 of a word, and `UXTB16`
+/// spreads them into 16-bit lanes.
+#[inline(always)]
+fn rectified4(c: u32, p: u32) -> [u32; 4] {
+    const LANES: u32 = 0x00FF_00FF;
+    let (on, off) = (dsp::uqsub8(c, p), dsp::uqsub8(p, c));
+    // [on0 on1 off0 off1] and [on2 on3 off2 off3]
+    let lo = (on & 0xFFFF) | (off << 16);
+    let hi = (on >> 16) | (off & 0xFFFF_0000);
+    [lo & LANES, (lo >> 8) & LANES, hi & LANES, (hi >> 8) & LANES]
+}
+
+/// [`row_sums`] for both channels at once, packed (see [`Retina`]): the rectified change of
+/// the row four pixels at a time ([`rectified4`]), each group's 3-sums written as soon as the
+/// next group's first pixel is known (`out[4k − 1 ..= 4k + 2]` from group `k` and the last two
+/// values of group `k − 1`), then the leftover pixels one by one.
 #[inline(always)]
 fn row_sums_packed(c: &[u8; WIDTH], p: &[u8], out: &mut [u32; WIDTH]) {
-    let (Some(&c0), Some(&p0)) = (c.first(), p.first()) else {
-        return;
-    };
-    let (mut left, mut mid) = (0u32, rectified(c0, p0));
-    let (ahead_c, ahead_p) = (&c[1..], p.get(1..).unwrap_or(&[]));
-    for (o, (&cn, &pn)) in out.iter_mut().zip(ahead_c.iter().zip(ahead_p)) {
-        let right = rectified(cn, pn);
+    let p = p.get(..WIDTH).unwrap_or(&[0; WIDTH]);
+    let (c4, c_t) = c.as_chunks::<4>();
+    let (p4, p_t) = p.as_chunks::<4>();
+    let mut groups = c4
+        .iter()
+        .zip(p4)
+        .map(|(c, p)| rectified4(u32::from_le_bytes(*c), u32::from_le_bytes(*p)));
+    // (r(x − 2), r(x − 1)) before the next pixel x; 0 off the retina
+    let (mut left, mut mid) = (0u32, 0u32);
+    // pixels consumed (WIDTH ≥ 4: the first group exists)
+    let mut x = 0usize;
+    if let (Some([r0, r1, r2, r3]), Some(o)) = (groups.next(), out.first_chunk_mut::<3>()) {
+        *o = [r0 + r1, r0 + r1 + r2, r1 + r2 + r3];
+        (left, mid, x) = (r2, r3, 4);
+    }
+    let (o4, _) = out[3..].as_chunks_mut::<4>();
+    for (o, [r0, r1, r2, r3]) in o4.iter_mut().zip(groups) {
+        *o = [left + mid + r0, mid + r0 + r1, r0 + r1 + r2, r1 + r2 + r3];
+        (left, mid) = (r2, r3);
+        x += 4;
+    }
+    // out[x − 1] is the first not written; the leftover pixels x.. and the zero beyond
+    let tail = c_t.iter().zip(p_t).map(|(&c, &p)| rectified(c, p));
+    for (o, right) in out[x.saturating_sub(1)..]
+        .iter_mut()
+        .zip(tail.chain(core::iter::once(0)))
+    {
         *o = left + mid + right;
         (left, mid) = (mid, right);
     }
-    out[WIDTH - 1] = left + mid;
 }
 
 /// Horizontal 3-sums of the rectified change from row `p` to row `c`.
