@@ -321,8 +321,11 @@ fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u3
     let [mut r_on, mut r_off] = sum(&row[N + 1..2 * N + 1]);
     let (a, b, shift) = (r.a, r.b, r.shift);
     let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
+    // P(x), carried: the next pixel's own values are the R window's leaving word
+    let mut own = row[N];
     for (w, &[v_on, v_off]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
-        let [p_on, p_off] = w[N];
+        let [p_on, p_off] = own;
+        own = w[N + 1];
         // both lanes scaled at once: a·L, b·L ≤ 32640 never carry into the next lane
         let (own_on, own_off) = (p_on * a, p_off * b);
         if V {
@@ -330,7 +333,7 @@ fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u3
         }
         if R {
             sr = sr.wrapping_add(lm::<SH>(own_on, own_off, r_on, r_off, shift));
-            let ([e_on, e_off], [x_on, x_off]) = (w[2 * N + 1], w[N + 1]);
+            let ([e_on, e_off], [x_on, x_off]) = (w[2 * N + 1], own);
             r_on = r_on.wrapping_add(e_on).wrapping_sub(x_on);
             r_off = r_off.wrapping_add(e_off).wrapping_sub(x_off);
         }
