@@ -125,9 +125,11 @@ impl Retina {
             return Err(RowError::TooManyRows);
         };
         if self.primed {
+            // also replaces the row of P(t−1) by this one, word by word as it is read
             row_sums_packed(row, prev, &mut self.h[y % 3]);
+        } else {
+            prev.copy_from_slice(row);
         }
-        prev.copy_from_slice(row);
         if self.primed && y >= 1 {
             self.finish_row(y - 1);
         }
@@ -374,16 +376,20 @@ fn rectified4(c: u32, p: u32) -> [u32; 4] {
 /// [`row_sums`] for both channels at once, packed (see [`Retina`]): the rectified change of
 /// the row four pixels at a time ([`rectified4`]), each group's 3-sums written as soon as the
 /// next group's first pixel is known (`out[4k − 1 ..= 4k + 2]` from group `k` and the last two
-/// values of group `k − 1`), then the leftover pixels one by one.
+/// values of group `k − 1`), then the leftover pixels one by one. The previous row `p` is
+/// overwritten with `c` as it is read (the retina keeps only `P(t−1)`), so no separate copy.
 #[inline(always)]
-fn row_sums_packed(c: &[u8; WIDTH], p: &[u8], out: &mut [u32; WIDTH]) {
-    let p = p.get(..WIDTH).unwrap_or(&[0; WIDTH]);
+fn row_sums_packed(c: &[u8; WIDTH], p: &mut [u8], out: &mut [u32; WIDTH]) {
+    let Some(p) = p.get_mut(..WIDTH) else {
+        return;
+    };
     let (c4, c_t) = c.as_chunks::<4>();
-    let (p4, p_t) = p.as_chunks::<4>();
-    let mut groups = c4
-        .iter()
-        .zip(p4)
-        .map(|(c, p)| rectified4(u32::from_le_bytes(*c), u32::from_le_bytes(*p)));
+    let (p4, p_t) = p.as_chunks_mut::<4>();
+    let mut groups = c4.iter().zip(p4.iter_mut()).map(|(c, p)| {
+        let r = rectified4(u32::from_le_bytes(*c), u32::from_le_bytes(*p));
+        *p = *c;
+        r
+    });
     // (r(x − 2), r(x − 1)) before the next pixel x; 0 off the retina
     let (mut left, mut mid) = (0u32, 0u32);
     // pixels consumed (WIDTH ≥ 4: the first group exists)
@@ -399,7 +405,11 @@ fn row_sums_packed(c: &[u8; WIDTH], p: &[u8], out: &mut [u32; WIDTH]) {
         x += 4;
     }
     // out[x − 1] is the first not written; the leftover pixels x.. and the zero beyond
-    let tail = c_t.iter().zip(p_t).map(|(&c, &p)| rectified(c, p));
+    let tail = c_t.iter().zip(p_t.iter_mut()).map(|(&c, p)| {
+        let r = rectified(c, *p);
+        *p = c;
+        r
+    });
     for (o, right) in out[x.saturating_sub(1)..]
         .iter_mut()
         .zip(tail.chain(core::iter::once(0)))
