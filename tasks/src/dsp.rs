@@ -107,6 +107,35 @@ pub fn uqsub8(a: u32, b: u32) -> u32 {
     }
 }
 
+/// `USUB8` then `SEL`: per byte, `x` where `a ≥ b` (unsigned) and `y` elsewhere. One `asm!`
+/// block, since the GE flags `USUB8` sets must reach `SEL` untouched.
+#[inline(always)]
+pub fn sel_ge(a: u32, b: u32, x: u32, y: u32) -> u32 {
+    #[cfg(target_arch = "arm")]
+    {
+        let r: u32;
+        // SAFETY: two register-only instructions of ARMv7E-M (the GE flags are clobbered).
+        unsafe {
+            core::arch::asm!("usub8 {r}, {a}, {b}", "sel {r}, {x}, {y}", r = out(reg) r,
+                a = in(reg) a, b = in(reg) b, x = in(reg) x, y = in(reg) y,
+                options(pure, nomem, nostack));
+        }
+        r
+    }
+    #[cfg(not(target_arch = "arm"))]
+    {
+        let (a, b, x, y) = (
+            a.to_le_bytes(),
+            b.to_le_bytes(),
+            x.to_le_bytes(),
+            y.to_le_bytes(),
+        );
+        u32::from_le_bytes(core::array::from_fn(
+            |i| if a[i] >= b[i] { x[i] } else { y[i] },
+        ))
+    }
+}
+
 /// `UXTAB16`: `acc + (x & 0x00FF00FF)` lane by lane, each 16-bit lane of `acc` adding its
 /// byte of `x` (bytes 0 and 2) modulo 2^16, no carry between the lanes.
 #[inline(always)]
@@ -189,6 +218,16 @@ mod tests {
                 let (b, b8) = ((x >> (16 * i)) & 0xFF, (x >> (16 * i + 8)) & 0xFF);
                 prop_assert_eq!(lane(r, i), (lane(acc, i) + b) & 0xFFFF);
                 prop_assert_eq!(lane(q, i), (lane(acc, i) + b8) & 0xFFFF);
+            }
+        }
+
+        #[test]
+        fn byte_select_by_compare(a: u32, b: u32, x: u32, y: u32) {
+            let r = sel_ge(a, b, x, y);
+            for i in 0..4 {
+                let byte = |v: u32| (v >> (8 * i)) & 255;
+                let want = if byte(a) >= byte(b) { byte(x) } else { byte(y) };
+                prop_assert_eq!(byte(r), want);
             }
         }
 

@@ -267,25 +267,21 @@ fn finish_cells<const HALF: bool>(
 ///
 /// Why it is the same: with `diff = L − D`, `step = ⌊(128·diff + 128)/256⌋ = ⌊(diff + 1)/2⌋`,
 /// which is `⌈diff/2⌉`, and it is 0 only for `diff ∈ {0, −1}`, where the fix-up makes it
-/// `signum(diff)`. So `D' = D + ⌈(L − D)/2⌉ = ⌈(D + L)/2⌉`, except `D' = L` when `L = D − 1`
-/// (the only pair where `⌈(D + L)/2⌉ = D ≠ L`). Per byte, `⌈(D + L)/2⌉ = (D | L) − ((D ^ L) >> 1)`
-/// (from `D + L = (D ^ L) + 2·(D & L)`), which never borrows across bytes; the exception is
-/// `⌈(D + L)/2⌉ = D` with `L ≠ D`, found with exact per-byte zero tests, and subtracts 1 from
-/// a byte that is `D ≥ 1`. The test `half_step4_is_delay_step_with_gain_128` checks all
-/// 65,536 `(D, L)` pairs in every byte position.
+/// `signum(diff)`. So `D' = D + ⌈(L − D)/2⌉ = ⌈(D + L)/2⌉` where `L ≥ D`; where `L < D` the
+/// same except `D' = L = D − 1` for `diff = −1`, and since `⌈(D + L)/2⌉ ≤ D − 1` for every
+/// other `L < D`, `D' = min(⌈(D + L)/2⌉, D − 1)` there. Per byte, `⌈(D + L)/2⌉ =
+/// (D | L) − ((D ^ L) >> 1)` (from `D + L = (D ^ L) + 2·(D & L)`), which never borrows across
+/// bytes; `D − 1` is `UQSUB8` (`D ≥ 1` wherever it is used), the minimum and the choice by
+/// `L ≥ D` are `USUB8` + `SEL` ([`dsp::sel_ge`]). The test
+/// `half_step4_is_delay_step_with_gain_128` checks all 65,536 `(D, L)` pairs in every byte
+/// position.
 #[inline(always)]
 fn half_step4(d: u32, l: u32) -> u32 {
     const LOW7: u32 = 0x7F7F_7F7F;
-    const HIGH: u32 = 0x8080_8080;
-    // 0x80 in each byte of `v` that is 0, else 0 (no carry leaves a byte: (v & 0x7F) + 0x7F ≤ 0xFE)
-    #[inline(always)]
-    fn zero_bytes(v: u32) -> u32 {
-        !(((v & LOW7) + LOW7) | v) & HIGH
-    }
-    let x = d ^ l;
-    let ceil = (d | l) - ((x >> 1) & LOW7);
-    let fix = zero_bytes(ceil ^ d) & !zero_bytes(x);
-    ceil - (fix >> 7)
+    let ceil = (d | l) - (((d ^ l) >> 1) & LOW7);
+    let below = dsp::uqsub8(d, 0x0101_0101);
+    let falling = dsp::sel_ge(ceil, below, below, ceil);
+    dsp::sel_ge(l, d, ceil, falling)
 }
 
 /// `⌊s / 9⌋` for a 3x3 sum of bytes (`s ≤ 2295`) as a multiply and shift (exact on that range,
