@@ -107,6 +107,45 @@ pub fn uqsub8(a: u32, b: u32) -> u32 {
     }
 }
 
+/// `SMULWB`: `(a · lo(b)) >> 16`, a 32x16 multiply keeping the top 32 bits of the 48-bit
+/// product (arithmetic shift).
+#[inline(always)]
+pub fn smulwb(a: i32, b: u32) -> i32 {
+    #[cfg(target_arch = "arm")]
+    {
+        let r: i32;
+        // SAFETY: one register-only instruction of ARMv7E-M.
+        unsafe {
+            core::arch::asm!("smulwb {r}, {a}, {b}", r = lateout(reg) r, a = in(reg) a,
+                b = in(reg) b, options(pure, nomem, nostack, preserves_flags));
+        }
+        r
+    }
+    #[cfg(not(target_arch = "arm"))]
+    {
+        ((i64::from(a) * i64::from(lo(b))) >> 16) as i32
+    }
+}
+
+/// `SMULWT`: `(a · hi(b)) >> 16`.
+#[inline(always)]
+pub fn smulwt(a: i32, b: u32) -> i32 {
+    #[cfg(target_arch = "arm")]
+    {
+        let r: i32;
+        // SAFETY: one register-only instruction of ARMv7E-M.
+        unsafe {
+            core::arch::asm!("smulwt {r}, {a}, {b}", r = lateout(reg) r, a = in(reg) a,
+                b = in(reg) b, options(pure, nomem, nostack, preserves_flags));
+        }
+        r
+    }
+    #[cfg(not(target_arch = "arm"))]
+    {
+        ((i64::from(a) * i64::from(hi(b))) >> 16) as i32
+    }
+}
+
 /// `USUB8` then `SEL`: per byte, `x` where `a ≥ b` (unsigned) and `y` elsewhere. One `asm!`
 /// block, since the GE flags `USUB8` sets must reach `SEL` untouched.
 #[inline(always)]
@@ -219,6 +258,13 @@ mod tests {
                 prop_assert_eq!(lane(r, i), (lane(acc, i) + b) & 0xFFFF);
                 prop_assert_eq!(lane(q, i), (lane(acc, i) + b8) & 0xFFFF);
             }
+        }
+
+        #[test]
+        fn wide_multiply_keeps_the_top_bits(a: i32, b: u32) {
+            let ((bl, bh), a) = (lanes(b), i64::from(a));
+            prop_assert_eq!(i64::from(smulwb(a as i32, b)), (a * bl) >> 16);
+            prop_assert_eq!(i64::from(smulwt(a as i32, b)), (a * bh) >> 16);
         }
 
         #[test]

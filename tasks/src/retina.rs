@@ -232,7 +232,7 @@ fn finish_cells<const HALF: bool>(
     // the new means of a pixel, `on | off << 8`, from its packed 3x3 sum
     #[inline(always)]
     fn means(s: u32) -> u32 {
-        u32::from(div9_lo(s)) | u32::from(div9_hi(s)) << 8
+        div9_lo(s) | div9_hi(s) << 8
     }
     // one pixel's delay line by `delay_step`: the old means (low half) into the delayed ones
     #[inline(always)]
@@ -291,18 +291,18 @@ pub fn div9(s: u16) -> u8 {
     ((u32::from(s) * 7282) >> 16) as u8
 }
 
-/// [`div9`] of the low lane of a packed sum: the lane read as `i16` (`s ≤ 2295`, so the same
-/// number) lets the multiply take it straight from the packed word (`SMULBB` on the
-/// Cortex-M4, no `UXTH`); `(7282·s) >> 16` as in [`div9`].
+/// [`div9`] of the low lane of a packed sum (`s ≤ 2295`): `(7282·s) >> 16` is the top half of
+/// the 32x16 product, one `SMULWB` taking the lane straight from the packed word (no `UXTH`,
+/// no shift, no mask: the quotient is ≤ 255).
 #[inline(always)]
-fn div9_lo(s: u32) -> u8 {
-    ((i64::from(7282i32) * i64::from(s as u16 as i16)) >> 16) as u8
+fn div9_lo(s: u32) -> u32 {
+    dsp::smulwb(7282, s) as u32
 }
 
-/// [`div9`] of the high lane of a packed sum (`SMULTB`, no shift to extract the lane).
+/// [`div9`] of the high lane of a packed sum (`SMULWT`).
 #[inline(always)]
-fn div9_hi(s: u32) -> u8 {
-    ((i64::from(7282i32) * i64::from((s >> 16) as u16 as i16)) >> 16) as u8
+fn div9_hi(s: u32) -> u32 {
+    dsp::smulwt(7282, s) as u32
 }
 
 /// Eqs. (1)–(2): the ON and OFF maps of the change from `prev` to `cur`, 3x3-averaged (the
@@ -488,8 +488,16 @@ mod tests {
         // every lane value a 3x3 sum can take, next to any other lane value
         for s in 0..=2295u32 {
             for other in [0u32, 1, 9, 1147, 2294, 2295] {
-                assert_eq!(div9_lo(s | other << 16), div9(s as u16), "lo {s} {other}");
-                assert_eq!(div9_hi(other | s << 16), div9(s as u16), "hi {s} {other}");
+                assert_eq!(
+                    div9_lo(s | other << 16),
+                    u32::from(div9(s as u16)),
+                    "lo {s} {other}"
+                );
+                assert_eq!(
+                    div9_hi(other | s << 16),
+                    u32::from(div9(s as u16)),
+                    "hi {s} {other}"
+                );
             }
         }
     }
