@@ -206,7 +206,8 @@ impl Fields {
     /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
     ///
     /// Same result as [`Fields::recentre_reference`]. The peak is taken on the saliencies
-    /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel). A
+    /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel); with
+    /// Table I's weights the saliency is `on + 4·off` from the cell's bytes, no multiply. A
     /// row's moments are summed in `u32` (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with
     /// `gain ≤ 16`, `w ≤ 4`, so a row of at most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then
     /// added to `u64` totals; pixels under the floor weigh 0 instead of being branched around.
@@ -214,12 +215,23 @@ impl Fields {
     /// `Σ L̂_x·x = (x1 + 1)·S − T` (`T ≤ 99·S < 2.1·10⁸`), two additions per pixel and no
     /// column counter.
     pub fn recentre(&mut self, maps: &Maps, w: &Weights, p: &Params) {
+        if (w.on_q8, w.off_q8) == (256, 1024) {
+            // Table I (gain 4, w = 0.25): L̂ = on + 4·off exactly, no multiply and no shift
+            self.recentre_by(maps, p, |c| (c & 0xFF) + ((c >> 6) & 0x3FC), 0);
+        } else {
+            self.recentre_by(maps, p, |c| w.saliency_q8_cell(c), 8);
+        }
+    }
+
+    /// [`Fields::recentre`] with the saliency `sal(c) = L̂ << k` of a cell (`L̂ = sal >> k`).
+    #[inline(always)]
+    fn recentre_by(&mut self, maps: &Maps, p: &Params, sal: impl Fn(u32) -> u32, k: u32) {
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             let mut peak = 0u32;
             for y in y0..=y1 {
                 let i = y * WIDTH;
-                let mut max = |c: u32| peak = peak.max(w.saliency_q8_cell(c));
+                let mut max = |c: u32| peak = peak.max(sal(c));
                 // four pixels per iteration: one loop branch per four, not an end test per pixel
                 let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
                 for q in quads {
@@ -227,7 +239,7 @@ impl Fields {
                 }
                 rest.iter().for_each(|&c| max(c));
             }
-            let peak = peak >> 8;
+            let peak = peak >> k;
             // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
             let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
             let floor = u32::try_from(floor).unwrap_or(u32::MAX);
@@ -236,7 +248,7 @@ impl Fields {
                 let i = y * WIDTH;
                 let (mut s, mut t) = (0u32, 0u32);
                 let mut add = |c: u32| {
-                    let l = w.saliency_cell(c);
+                    let l = sal(c) >> k;
                     let l = if l >= floor { l } else { 0 };
                     s = s.wrapping_add(l);
                     t = t.wrapping_add(s);
@@ -488,6 +500,36 @@ mod tests {
             f.retire(4, 5000);
         }
         assert_eq!(f.len(), 1);
+    }
+
+    #[test]
+    fn table_i_weights_take_the_multiply_free_saliency_with_the_same_centroids() {
+        // Table I's weights (`on + 4·off`) have their own recentre path: hold it to the
+        // reference on noise, thinned noise and in every corner
+        let (p, w) = (p(), w());
+        assert_eq!((w.on_q8, w.off_q8), (256, 1024));
+        for seed in 0..8 {
+            let maps = crate::hrc::random_maps(seed);
+            let mut off = maps[1];
+            if seed % 2 == 1 {
+                off.iter_mut().step_by(3).for_each(|v| *v = 0);
+            }
+            let cells = cm(&maps[0], &off);
+            let m = Maps::new(&cells);
+            let mut f = Fields::default();
+            for (x, y) in [(0, 0), (98, 71), (50, 36), (10, 60)] {
+                f.insert(x, y);
+            }
+            let mut g = f.clone();
+            f.recentre(&m, &w, &p);
+            g.recentre_reference(&m, &w, &p);
+            let at = |f: &Fields| {
+                f.iter()
+                    .map(|a| (a.x, a.y))
+                    .collect::<heapless::Vec<_, 6>>()
+            };
+            assert_eq!(at(&f), at(&g), "seed {seed}");
+        }
     }
 
     #[test]
