@@ -206,71 +206,84 @@ fn unpack(c: u32) -> [u32; 2] {
     [c & LANES, (c >> 8) & LANES]
 }
 
-/// `row[x + PAD] =` [`unpack`] of the cells of row `y`, columns `c0..c1`: per channel its
-/// value at `t` and at `t − C_d` in the two 16-bit lanes of a word, the layout of the dual
-/// multiply-subtract in [`lm`] (both words side by side: one pointer and one `LDRD` in the
-/// kernel). Lane sums of up to `MAX_N` such words stay ≤ 1020: word arithmetic never carries
-/// or borrows between the lanes.
+/// One column of a row as the row kernel reads it, at index `x + PAD` of a [`Row`]: `[0..2]`
+/// the pixel's [`unpack`]ed channels (per channel its value at `t` and at `t − C_d` in the two
+/// 16-bit lanes of a word, the layout of the dual multiply-subtract in [`lm`]), `[2..4]` its
+/// vertical neighbour sums in the same layout. Lane sums of up to `MAX_N` such words stay
+/// ≤ 1020: word arithmetic never carries or borrows between the lanes. Own values and vertical
+/// sums side by side: the kernel walks one pointer, no second array zipped in.
+type Column = [u32; 4];
+/// A row of [`Column`]s with its margins (and one spare slot for the running windows' last
+/// update).
+type Row = [Column; PADDED];
+
+/// `row[x + PAD][0..2] =` [`unpack`] of the cells of row `y`, columns `c0..c1`.
 #[inline(always)]
-fn pack_row(row: &mut [[u32; 2]; PADDED], m: &Maps, y: usize, c0: usize, c1: usize) {
+fn pack_row(row: &mut Row, m: &Maps, y: usize, c0: usize, c1: usize) {
     let r = y * WIDTH;
     let cells = m.cells.get(r + c0..r + c1).unwrap_or_default();
     for (p, &c) in row[c0 + PAD..c1 + PAD].iter_mut().zip(cells) {
-        *p = unpack(c);
+        [p[0], p[1]] = unpack(c);
     }
 }
 
-/// `out[x] = Σ_{k<K} row(x, r0 + k)` (packed as in [`pack_row`]) for columns `c0..c1`: a
-/// vertical neighbour sum of `K` rows, all on the retina. One word load per cell, both
-/// channels' lanes summed with `UXTAB16` (a lane sum of `K ≤ 4` bytes is ≤ 1020, no carry).
-/// The cells of a column are `WIDTH` apart in one window of the `K` rows, whose length is a
-/// constant: no bounds test per load.
+/// For columns `c0..c1` of row `y`: `row[x + PAD]` = the pixel's own values ([`pack_row`]'s
+/// work) and its vertical neighbour sums `Σ_{c=1..K} P(x, y ∓ c)` (up if `UP`, else down),
+/// packed the same way, in one pass over the columns. Rows `y − K ..= y` or `y ..= y + K` must be on the retina (were they
+/// not, the block would be empty and the row keep its old values). A column's cells are `WIDTH`
+/// apart in one window of those rows, whose length is a constant: no bounds test per load; one
+/// word load per cell, both channels' lanes summed with `UXTAB16` (a lane sum of `K ≤ 4` bytes
+/// is ≤ 1020, no carry).
 #[inline(always)]
-fn vsum_k<const K: usize>(out: &mut [[u32; 2]; WIDTH], m: &Maps, r0: usize, c0: usize, c1: usize) {
-    let out = &mut out[c0..c1];
-    // rows r0 .. r0 + K from column c0 (on the retina: c0 + len ≤ WIDTH and row r0 + K − 1 <
-    // HEIGHT; were they not, the block would be empty and `out` keep its old values)
-    let base = r0 * WIDTH + c0;
-    let span = (K - 1) * WIDTH + 1;
-    let blk = m.cells.get(base..base + span - 1 + out.len());
+fn columns_k<const K: usize, const UP: bool>(
+    row: &mut Row,
+    m: &Maps,
+    y: usize,
+    c0: usize,
+    c1: usize,
+) {
+    let out = &mut row[c0 + PAD..c1 + PAD];
+    let top = if UP { y.checked_sub(K) } else { Some(y) };
+    let span = K * WIDTH + 1;
+    let base = top.map_or(usize::MAX, |t| t * WIDTH + c0);
+    let blk = m.cells.get(base..base.saturating_add(span - 1 + out.len()));
+    // offsets of the first neighbour row and of the own row in the window
+    let (v0, own) = if UP { (0, K * WIDTH) } else { (WIDTH, 0) };
     for (o, w) in out.iter_mut().zip(blk.unwrap_or_default().windows(span)) {
         let (mut on, mut off) = (0u32, 0u32);
         for k in 0..K {
-            let c = w[k * WIDTH];
+            let c = w[v0 + k * WIDTH];
             on = dsp::uxtab16(on, c);
             off = dsp::uxtab16_ror8(off, c);
         }
-        *o = [on, off];
+        let [p_on, p_off] = unpack(w[own]);
+        *o = [p_on, p_off, on, off];
     }
 }
 
-/// The packed vertical neighbour sums of row `y` (up if `up`, else down), columns `c0..c1`:
-/// `Σ_{c=1..n} P(x, y ∓ c)` over the neurons on the retina (Eq. 6's `q_c = p + c·(0, ±1)`;
-/// the ones off the retina are 0).
-fn vsum(out: &mut [[u32; 2]; WIDTH], m: &Maps, y: usize, up: bool, n: usize, c0: usize, c1: usize) {
-    let (r0, k) = if up {
-        let k = n.min(y);
-        (y - k, k)
+/// [`columns_k`] with `K = min(n, rows left on the retina)` (Eq. 6's `q_c = p + c·(0, ±1)`;
+/// the neurons off the retina are 0).
+fn columns<const UP: bool>(row: &mut Row, m: &Maps, y: usize, n: usize, c0: usize, c1: usize) {
+    let k = if UP {
+        n.min(y)
     } else {
-        (y + 1, n.min(HEIGHT - 1 - y))
+        n.min((HEIGHT - 1).saturating_sub(y))
     };
     match k {
-        1 => vsum_k::<1>(out, m, r0, c0, c1),
-        2 => vsum_k::<2>(out, m, r0, c0, c1),
-        3 => vsum_k::<3>(out, m, r0, c0, c1),
-        4 => vsum_k::<4>(out, m, r0, c0, c1),
-        _ => out[c0..c1].fill([0; 2]),
+        0 => columns_k::<0, UP>(row, m, y, c0, c1),
+        1 => columns_k::<1, UP>(row, m, y, c0, c1),
+        2 => columns_k::<2, UP>(row, m, y, c0, c1),
+        3 => columns_k::<3, UP>(row, m, y, c0, c1),
+        _ => columns_k::<4, UP>(row, m, y, c0, c1),
     }
 }
 
 /// What the row kernel reads for one row `y`.
 #[derive(Clone, Copy)]
 struct RowCtx<'a> {
-    /// Row `y` packed ([`pack_row`]) per channel at `t` and `t − C_d`, column `x` at index
-    /// `x + PAD`.
-    row: &'a [[u32; 2]; PADDED],
-    /// Its vertical neighbour sums (one direction), column `x` at index `x`.
-    vs: &'a [[u32; 2]; WIDTH],
+    /// Row `y` ([`pack_row`]) with its vertical neighbour sums (one direction, [`columns`]),
+    /// column `x` at index `x + PAD`.
+    row: &'a Row,
     /// `a` and `b` of [`Narrow`] (≤ 128, so `a·L` of a byte fits an `i16` lane).
     a: u32,
     b: u32,
@@ -312,7 +325,7 @@ fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u3
     // P(x) sits at index x + PAD; the windows span P(x − N ..= x + N + 1)
     let (i0, i1) = (s + PAD - N, e + PAD + N + 1);
     let row = &r.row[i0..i1];
-    let sum = |p: &[[u32; 2]]| {
+    let sum = |p: &[Column]| {
         p.iter().fold([0u32; 2], |a, v| {
             [a[0].wrapping_add(v[0]), a[1].wrapping_add(v[1])]
         })
@@ -323,8 +336,8 @@ fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u3
     let (mut sr, mut sl, mut sv) = (0u32, 0u32, 0u32);
     // P(x), carried: the next pixel's own values are the R window's leaving word
     let mut own = row[N];
-    for (w, &[v_on, v_off]) in row.windows(2 * N + 2).zip(&r.vs[s..e]) {
-        let [p_on, p_off] = own;
+    for w in row.windows(2 * N + 2) {
+        let [p_on, p_off, v_on, v_off] = own;
         own = w[N + 1];
         // both lanes scaled at once: a·L, b·L ≤ 32640 never carry into the next lane
         let (own_on, own_off) = (p_on * a, p_off * b);
@@ -333,13 +346,13 @@ fn seg<const R: bool, const L: bool, const V: bool, const N: usize, const SH: u3
         }
         if R {
             sr = sr.wrapping_add(lm::<SH>(own_on, own_off, r_on, r_off, shift));
-            let ([e_on, e_off], [x_on, x_off]) = (w[2 * N + 1], own);
+            let ([e_on, e_off, ..], [x_on, x_off, ..]) = (w[2 * N + 1], own);
             r_on = r_on.wrapping_add(e_on).wrapping_sub(x_on);
             r_off = r_off.wrapping_add(e_off).wrapping_sub(x_off);
         }
         if L {
             sl = sl.wrapping_add(lm::<SH>(own_on, own_off, l_on, l_off, shift));
-            let [x_on, x_off] = w[0];
+            let [x_on, x_off, ..] = w[0];
             l_on = l_on.wrapping_add(p_on).wrapping_sub(x_on);
             l_off = l_off.wrapping_add(p_off).wrapping_sub(x_off);
         }
@@ -383,6 +396,58 @@ fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize)
         2 => seg_vs::<R, L, 2, 0>(r, s, e),
         3 => seg_vs::<R, L, 3, 0>(r, s, e),
         _ => seg_vs::<R, L, 4, 0>(r, s, e),
+    }
+}
+
+/// `Σ LM_d` over the columns `s..e` of row `y` with `K ≥ 1` neurons below it, all on the
+/// retina: the second vertical direction of a row with fields above and below. The down sums
+/// are taken from the cells as they are needed (as in [`columns_k`]), not stored in the row.
+/// `SH` as in [`lm`].
+#[inline(always)]
+fn seg_down<const K: usize, const SH: u32>(
+    r: &RowCtx,
+    m: &Maps,
+    y: usize,
+    s: usize,
+    e: usize,
+) -> u32 {
+    let own = r.row.get(s + PAD..e + PAD).unwrap_or_default();
+    let span = (K - 1) * WIDTH + 1;
+    let base = (y + 1) * WIDTH + s;
+    let blk = m.cells.get(base..base + span - 1 + own.len());
+    let (a, b, shift) = (r.a, r.b, r.shift);
+    let mut sv = 0u32;
+    for (o, w) in own.iter().zip(blk.unwrap_or_default().windows(span)) {
+        let (mut on, mut off) = (0u32, 0u32);
+        for k in 0..K {
+            let c = w[k * WIDTH];
+            on = dsp::uxtab16(on, c);
+            off = dsp::uxtab16_ror8(off, c);
+        }
+        sv = sv.wrapping_add(lm::<SH>(o[0] * a, o[1] * b, on, off, shift));
+    }
+    sv
+}
+
+/// [`seg_down`] with `K = min(n, rows below y)` (none: no neighbour, no motion).
+fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u32 {
+    let k = n.min((HEIGHT - 1).saturating_sub(y));
+    if (k, r.a, r.b, r.shift) == (3, 1, 16, 8) {
+        // Table I, as in `seg_n`
+        let paper = RowCtx {
+            a: 1,
+            b: 16,
+            shift: 8,
+            ..*r
+        };
+        return seg_down::<3, 8>(&paper, m, y, s, e);
+    }
+    match k {
+        0 => 0,
+        1 => seg_down::<1, 0>(r, m, y, s, e),
+        2 => seg_down::<2, 0>(r, m, y, s, e),
+        3 => seg_down::<3, 0>(r, m, y, s, e),
+        _ => seg_down::<4, 0>(r, m, y, s, e),
     }
 }
 
@@ -447,8 +512,7 @@ pub fn integrate_rows(
     let fields = &fields[..count];
 
     let mut q = [[0u64; 4]; crate::network::MAX_AFS];
-    let mut row = [[0u32; 2]; PADDED];
-    let mut vs = [[0u32; 2]; WIDTH];
+    let mut row: Row = [[0; 4]; PADDED];
     // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
     // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above
     // and below, the only rows that read it), so it is not cleared per row
@@ -475,8 +539,14 @@ pub fn integrate_rows(
             continue;
         }
         let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
-        pack_row(&mut row, m, y, p0, p1);
-        vsum(&mut vs, m, y, up, n, ua, ub);
+        // own values on p0..p1, vertical sums (up if the row has an upward field) on ua..ub
+        pack_row(&mut row, m, y, p0, ua);
+        if up {
+            columns::<true>(&mut row, m, y, n, ua, ub);
+        } else {
+            columns::<false>(&mut row, m, y, n, ua, ub);
+        }
+        pack_row(&mut row, m, y, ub, p1);
         let a = u32::try_from(nw.a).unwrap_or(0);
         let b = u32::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
@@ -484,7 +554,6 @@ pub fn integrate_rows(
         {
             let ctx = RowCtx {
                 row: &row,
-                vs: &vs,
                 a,
                 b,
                 shift,
@@ -507,10 +576,8 @@ pub fn integrate_rows(
             }
         }
         if up && down {
-            vsum(&mut vs, m, y, false, n, ua, ub);
             let ctx = RowCtx {
                 row: &row,
-                vs: &vs,
                 a,
                 b,
                 shift,
@@ -518,7 +585,7 @@ pub fn integrate_rows(
             let mut acc = 0u32;
             for i in 0..bp.len().saturating_sub(1) {
                 if need[i] != 0 {
-                    acc = acc.wrapping_add(seg_n::<false, false>(&ctx, n, bp[i], bp[i + 1])[2]);
+                    acc = acc.wrapping_add(seg_down_n(&ctx, m, y, n, bp[i], bp[i + 1]));
                 }
                 pre[i + 1][3] = acc;
             }
