@@ -18,6 +18,7 @@
 //! Capacity: [`MAX_AFS`]. When full, no new field is created until one retires; with Table I's
 //! `R_AF` the geometry never lets more than 3 x 2 fields coexist, so this does not happen.
 
+use crate::dsp;
 use crate::frame::{HEIGHT, WIDTH};
 use crate::hrc::Maps;
 use crate::network::MAX_AFS;
@@ -206,9 +207,8 @@ impl Fields {
     /// Eq. (4): moves every centroid to the saliency-weighted first moments of its square.
     ///
     /// Same result as [`Fields::recentre_reference`]. The peak is taken on the saliencies
-    /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel); with
-    /// Table I's weights the saliency is `on + 4·off` from the cell's bytes, no multiply. A
-    /// row's moments are summed in `u32` (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with
+    /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel); Table
+    /// I's weights take [`Fields::recentre_table_i`]. A row's moments are summed in `u32` (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with
     /// `gain ≤ 16`, `w ≤ 4`, so a row of at most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then
     /// added to `u64` totals; pixels under the floor weigh 0 instead of being branched around.
     /// The row's `Σ L̂·x` comes from running sums, `S_x = Σ_{x' ≤ x} L̂_x'` and `T = Σ_x S_x`:
@@ -216,10 +216,74 @@ impl Fields {
     /// column counter.
     pub fn recentre(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         if (w.on_q8, w.off_q8) == (256, 1024) {
-            // Table I (gain 4, w = 0.25): L̂ = on + 4·off exactly, no multiply and no shift
-            self.recentre_by(maps, p, |c| (c & 0xFF) + ((c >> 6) & 0x3FC), 0);
+            self.recentre_table_i(maps, p);
         } else {
             self.recentre_by(maps, p, |c| w.saliency_q8_cell(c), 8);
+        }
+    }
+
+    /// [`Fields::recentre`] with Table I's weights (gain 4, w = 0.25): `L̂ = on + 4·off`
+    /// exactly, no multiply and no shift, two pixels per step in the 16-bit lanes of a word
+    /// (`L̂ ≤ 1275`). Peak: lane-wise maximum (`USUB16` + `SEL`). Moments: the floor as a
+    /// lane-wise select, then `Σ L̂` and `Σ L̂·x` of the pair by one `SMLAD` each (against
+    /// `[1, 1]` and `[x, x + 1]`); a row's `Σ L̂·x ≤ 99·1275·98 < 2^31`.
+    fn recentre_table_i(&mut self, maps: &Maps, p: &Params) {
+        let sal = |c: u32| (c & 0xFF) + ((c >> 6) & 0x3FC);
+        // L̂ of two cells in the lanes of a word: bytes [on0, off0, on1, off1], then
+        // `4·off` per lane (one masked shift) plus `on` per lane (`UXTAB16`)
+        let sal2 = |c0: u32, c1: u32| {
+            let t = (c0 & 0xFFFF) | (c1 << 16);
+            dsp::uxtab16((t >> 6) & 0x03FC_03FC, t)
+        };
+        for f in self.list.iter_mut() {
+            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            let (mut peak2, mut peak) = (0u32, 0u32);
+            for y in y0..=y1 {
+                let i = y * WIDTH;
+                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
+                for q in quads {
+                    let (a, b) = (sal2(q[0], q[1]), sal2(q[2], q[3]));
+                    peak2 = dsp::sel_ge16(peak2, a, peak2, a);
+                    peak2 = dsp::sel_ge16(peak2, b, peak2, b);
+                }
+                rest.iter().for_each(|&c| peak = peak.max(sal(c)));
+            }
+            let peak = peak.max(peak2 & 0xFFFF).max(peak2 >> 16);
+            // 1 ≤ ⌈peak·c_frac/100⌉ ≤ peak ≤ 1275 (or 1): a 16-bit lane
+            let floor = (peak * u32::from(p.c_frac)).div_ceil(100).max(1);
+            let floor2 = floor | floor << 16;
+            let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
+            for y in y0..=y1 {
+                let i = y * WIDTH;
+                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
+                let (mut s, mut sx) = (0i32, 0i32);
+                // the columns of a pair's two lanes
+                let mut xs = (x0 as u32) | (x0 as u32 + 1) << 16;
+                for q in quads {
+                    for l in [sal2(q[0], q[1]), sal2(q[2], q[3])] {
+                        let l = dsp::sel_ge16(l, floor2, l, 0);
+                        s = dsp::smlad(l, 0x0001_0001, s);
+                        sx = dsp::smlad(l, xs, sx);
+                        xs = xs.wrapping_add(0x0002_0002);
+                    }
+                }
+                // both sums are non-negative (lanes ≤ 1275, columns ≤ 98)
+                let (mut s, mut sx) = (s as u32, sx as u32);
+                for (x, &c) in (x1 + 1 - rest.len()..).zip(rest) {
+                    let l = sal(c);
+                    let l = if l >= floor { l } else { 0 };
+                    s += l;
+                    sx += l * x as u32;
+                }
+                m += u64::from(s);
+                mx += u64::from(sx);
+                my += u64::from(s) * y as u64;
+            }
+            // round to nearest; the quotient lies inside the square, so it fits a byte
+            if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
+                f.x = x as u8;
+                f.y = y as u8;
+            }
         }
     }
 
@@ -590,7 +654,7 @@ mod tests {
             #[test]
             fn spawn_and_recentre(
                 seed in any::<u32>(),
-                sparse in 0u8..4,
+                sparse in 0u8..5,
                 fields in prop::collection::vec((0u8..99, 0u8..72), 0..=MAX_AFS),
                 r_af in 1u8..=99,
                 r_c in 1u8..=99,
@@ -598,15 +662,19 @@ mod tests {
                 gain in 1u8..=16,
                 w in prop::sample::select(&[0.0f32, 0.25, 0.3, 1.0, 4.0][..]),
                 t_a in 0u32..3000,
+                table_i in any::<bool>(),
             ) {
+                // half the cases on Table I's weights, which have their own recentre path
+                let (gain, w) = if table_i { (4, 0.25) } else { (gain, w) };
                 let maps = crate::hrc::random_maps(seed);
                 let (mut on, mut off) = (maps[0], maps[1]);
                 for (i, (a, b)) in on.iter_mut().zip(off.iter_mut()).enumerate() {
-                    // sparse maps: ties and empty windows; sparse = 3: all equal
+                    // sparse maps: ties and empty windows; sparse = 3: all equal, 4: all saturated
                     match sparse {
                         1 if i % 7 != 0 => (*a, *b) = (0, 0),
                         2 => (*a, *b) = (*a / 64, *b / 64),
                         3 => (*a, *b) = (9, 9),
+                        4 => (*a, *b) = (255, 255),
                         _ => {}
                     }
                 }

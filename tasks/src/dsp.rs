@@ -175,6 +175,51 @@ pub fn sel_ge(a: u32, b: u32, x: u32, y: u32) -> u32 {
     }
 }
 
+/// `USUB16` then `SEL`: per 16-bit lane, `x` where `a ≥ b` (unsigned) and `y` elsewhere. One
+/// `asm!` block, as [`sel_ge`].
+#[inline(always)]
+pub fn sel_ge16(a: u32, b: u32, x: u32, y: u32) -> u32 {
+    #[cfg(target_arch = "arm")]
+    {
+        let r: u32;
+        // SAFETY: two register-only instructions of ARMv7E-M (the GE flags are clobbered).
+        unsafe {
+            core::arch::asm!("usub16 {r}, {a}, {b}", "sel {r}, {x}, {y}", r = out(reg) r,
+                a = in(reg) a, b = in(reg) b, x = in(reg) x, y = in(reg) y,
+                options(pure, nomem, nostack));
+        }
+        r
+    }
+    #[cfg(not(target_arch = "arm"))]
+    {
+        let lane = |v: u32, i: u32| (v >> (16 * i)) & 0xFFFF;
+        (0..2).fold(0, |r, i| {
+            let v = if lane(a, i) >= lane(b, i) { x } else { y };
+            r | lane(v, i) << (16 * i)
+        })
+    }
+}
+
+/// `SMLAD`: `acc + lo(a)·lo(b) + hi(a)·hi(b)`, the dual 16x16 multiply-accumulate, wrapping
+/// like the instruction.
+#[inline(always)]
+pub fn smlad(a: u32, b: u32, acc: i32) -> i32 {
+    #[cfg(target_arch = "arm")]
+    {
+        let r: i32;
+        // SAFETY: one register-only instruction of ARMv7E-M.
+        unsafe {
+            core::arch::asm!("smlad {r}, {a}, {b}, {c}", r = lateout(reg) r, a = in(reg) a,
+                b = in(reg) b, c = in(reg) acc, options(pure, nomem, nostack));
+        }
+        r
+    }
+    #[cfg(not(target_arch = "arm"))]
+    {
+        acc.wrapping_add(lo(a) * lo(b)).wrapping_add(hi(a) * hi(b))
+    }
+}
+
 /// `UXTAB16`: `acc + (x & 0x00FF00FF)` lane by lane, each 16-bit lane of `acc` adding its
 /// byte of `x` (bytes 0 and 2) modulo 2^16, no carry between the lanes.
 #[inline(always)]
@@ -275,6 +320,22 @@ mod tests {
                 let want = if byte(a) >= byte(b) { byte(x) } else { byte(y) };
                 prop_assert_eq!(byte(r), want);
             }
+        }
+
+        #[test]
+        fn halfword_select_by_compare(a: u32, b: u32, x: u32, y: u32) {
+            let r = sel_ge16(a, b, x, y);
+            for i in 0..2 {
+                let lane = |v: u32| (v >> (16 * i)) & 0xFFFF;
+                let want = if lane(a) >= lane(b) { lane(x) } else { lane(y) };
+                prop_assert_eq!(lane(r), want);
+            }
+        }
+
+        #[test]
+        fn dual_multiply_accumulate_is_its_definition(a: u32, b: u32, acc: i32) {
+            let ((al, ah), (bl, bh)) = (lanes(a), lanes(b));
+            prop_assert_eq!(smlad(a, b, acc), (i64::from(acc) + al * bl + ah * bh) as i32);
         }
 
         #[test]
