@@ -72,7 +72,7 @@ impl Kind {
     }
 
     /// A fresh controller of this kind with the model parameters `params` (ALVS) and the
-    /// motion parameters `fsm` (all kinds: LGMD2's escape uses the same speeds and timings);
+    /// motion parameters `fsm` (LGMD2's turn and cruise use the same speeds and limits);
     /// `seed` feeds the LGMD2 escape's random turns.
     pub fn make(self, params: Params, fsm: FsmParams, seed: u64) -> Box<dyn Controller> {
         match self {
@@ -135,10 +135,15 @@ impl Controller for AlvsController {
     }
 }
 
-/// LGMD2 baseline behaviour (paper Sec. III, Fig. 4c): on a collision alert the robot turns in
-/// place by a random angle of random sign (it has no direction information), then runs straight
-/// for a while, then wanders again. Turn magnitude 60°–180°, escape 1 s: the same durations as
-/// the ALVS FSM, so the comparison isolates the direction information.
+/// LGMD2 baseline behaviour (paper Sec. III, Fig. 4c; `../shared/LGMD2.md`, last paragraph): on
+/// a collision alert the robot turns in place by a random angle of random sign (it has no
+/// direction information), 60°–180°, then goes straight on at its cruise speed with its
+/// perception live, as the authors' Colias LGMD2 firmware does (`Decision_making` queues a long
+/// left or right turn on the motion board; when the turn is done the robot drives on and the
+/// next alert queues the next turn). Alerts during the turn are ignored (the firmware's motion
+/// queue is busy). There is no escape sprint: the firmware has none, and a 1 s run at
+/// `max_escape_mm_s` that ignores the LGMD2 (what this adapter did before) drove most LGMD2
+/// robots that had detected a wall into it after their random turn.
 pub struct Lgmd2Controller {
     model: Lgmd2,
     rng: Rng,
@@ -195,18 +200,14 @@ impl Controller for Lgmd2Controller {
             State::LongTakeoff => {
                 let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
                 if err.abs() <= p.align_tol_deg || self.frames_in_state > p.takeoff_timeout_frames {
-                    self.enter(State::Escape);
+                    // straight on along the new heading, perception live
+                    self.enter(State::Wander);
                 }
-            }
-            State::Escape if self.frames_in_state > p.min_escape_frames => {
-                self.setpoint_deg = heading_deg;
-                self.enter(State::Wander);
             }
             _ => {}
         }
         let v = match self.state {
             State::LongTakeoff => 0.0,
-            State::Escape => p.max_escape_mm_s,
             _ => p.cruise_mm_s,
         };
         let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
