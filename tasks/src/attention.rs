@@ -94,6 +94,35 @@ impl Field {
     }
 }
 
+/// Eq. (4)'s first moments of one field's window, summed row by row.
+#[derive(Default)]
+struct Moments {
+    /// `Σ L̂`, `Σ L̂·x`, `Σ L̂·y`.
+    m: u64,
+    mx: u64,
+    my: u64,
+}
+
+impl Moments {
+    /// Adds row `y` with `Σ L̂ = s` and `Σ L̂·x = sx`.
+    #[inline(always)]
+    fn add_row(&mut self, s: u32, sx: u32, y: usize) {
+        self.m += u64::from(s);
+        self.mx += u64::from(sx);
+        self.my += u64::from(s) * y as u64;
+    }
+
+    /// Moves `f` to the centroid, rounded to the nearest pixel; without weight it stays.
+    fn move_centroid(&self, f: &mut Field) {
+        let (m, mx, my) = (self.m, self.mx, self.my);
+        // the quotient lies inside the square, so it fits a byte
+        if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
+            f.x = x as u8;
+            f.y = y as u8;
+        }
+    }
+}
+
 /// The set of attention fields, oldest first.
 #[derive(Debug, Clone, Default)]
 pub struct Fields {
@@ -252,7 +281,7 @@ impl Fields {
             // 1 ≤ ⌈peak·c_frac/100⌉ ≤ peak ≤ 1275 (or 1): a 16-bit lane
             let floor = (peak * u32::from(p.c_frac)).div_ceil(100).max(1);
             let floor2 = floor | floor << 16;
-            let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
+            let mut mo = Moments::default();
             for y in y0..=y1 {
                 let i = y * WIDTH;
                 let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
@@ -275,15 +304,9 @@ impl Fields {
                     s += l;
                     sx += l * x as u32;
                 }
-                m += u64::from(s);
-                mx += u64::from(sx);
-                my += u64::from(s) * y as u64;
+                mo.add_row(s, sx, y);
             }
-            // round to nearest; the quotient lies inside the square, so it fits a byte
-            if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
-                f.x = x as u8;
-                f.y = y as u8;
-            }
+            mo.move_centroid(f);
         }
     }
 
@@ -307,7 +330,7 @@ impl Fields {
             // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
             let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
             let floor = u32::try_from(floor).unwrap_or(u32::MAX);
-            let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
+            let mut mo = Moments::default();
             for y in y0..=y1 {
                 let i = y * WIDTH;
                 let (mut s, mut t) = (0u32, 0u32);
@@ -324,15 +347,9 @@ impl Fields {
                 }
                 rest.iter().for_each(|&c| add(c));
                 let sx = (x1 as u32 + 1).wrapping_mul(s).wrapping_sub(t);
-                m += u64::from(s);
-                mx += u64::from(sx);
-                my += u64::from(s) * y as u64;
+                mo.add_row(s, sx, y);
             }
-            // round to nearest; the quotient lies inside the square, so it fits a byte
-            if let (Some(x), Some(y)) = ((mx + m / 2).checked_div(m), (my + m / 2).checked_div(m)) {
-                f.x = x as u8;
-                f.y = y as u8;
-            }
+            mo.move_centroid(f);
         }
     }
 
