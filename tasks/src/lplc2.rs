@@ -229,11 +229,11 @@ fn pack_row(row: &mut Row, m: &Maps, y: usize, c0: usize, c1: usize) {
 
 /// For columns `c0..c1` of row `y`: `row[x + PAD]` = the pixel's own values ([`pack_row`]'s
 /// work) and its vertical neighbour sums `Σ_{c=1..K} P(x, y ∓ c)` (up if `UP`, else down),
-/// packed the same way, in one pass over the columns. Rows `y − K ..= y` or `y ..= y + K` must be on the retina (were they
-/// not, the block would be empty and the row keep its old values). A column's cells are `WIDTH`
-/// apart in one window of those rows, whose length is a constant: no bounds test per load; one
-/// word load per cell, both channels' lanes summed with `UXTAB16` (a lane sum of `K ≤ 4` bytes
-/// is ≤ 1020, no carry).
+/// packed the same way, in one pass over the columns. Rows `y − K ..= y` or `y ..= y + K`
+/// must be on the retina (were they not, the block would be empty and the row keep its old
+/// values). A column's cells are `WIDTH` apart in one window of those rows, whose length is a
+/// constant: no bounds test per load; one word load per cell, both channels' lanes summed with
+/// `UXTAB16` (a lane sum of `K ≤ 4` bytes is ≤ 1020, no carry).
 #[inline(always)]
 fn columns_k<const K: usize, const UP: bool>(
     row: &mut Row,
