@@ -239,8 +239,8 @@ impl Fields {
     /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel); Table
     /// I's weights take [`Fields::recentre_table_i`]. A row's moments are summed in `u32`
     /// (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with `gain ≤ 16`, `w ≤ 4`, so a row of at
-    /// most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then
-    /// added to `u64` totals; pixels under the floor weigh 0 instead of being branched around.
+    /// most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then added to `u64` totals; pixels under the
+    /// floor weigh 0 instead of being branched around.
     /// The row's `Σ L̂·x` comes from running sums, `S_x = Σ_{x' ≤ x} L̂_x'` and `T = Σ_x S_x`:
     /// `Σ L̂_x·x = (x1 + 1)·S − T` (`T ≤ 99·S < 2.1·10⁸`), two additions per pixel and no
     /// column counter.
@@ -248,7 +248,7 @@ impl Fields {
         if (w.on_q8, w.off_q8) == (256, 1024) {
             self.recentre_table_i(maps, p);
         } else {
-            self.recentre_by(maps, p, |c| w.saliency_q8_cell(c), 8);
+            self.recentre_general(maps, w, p);
         }
     }
 
@@ -311,9 +311,10 @@ impl Fields {
         }
     }
 
-    /// [`Fields::recentre`] with the saliency `sal(c) = L̂ << k` of a cell (`L̂ = sal >> k`).
+    /// [`Fields::recentre`] with any weights: the saliency in Q8 (`L̂ << 8`) per cell.
     #[inline(always)]
-    fn recentre_by(&mut self, maps: &Maps, p: &Params, sal: impl Fn(u32) -> u32, k: u32) {
+    fn recentre_general(&mut self, maps: &Maps, w: &Weights, p: &Params) {
+        let (sal, k) = (|c: u32| w.saliency_q8_cell(c), 8);
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
             let mut peak = 0u32;
