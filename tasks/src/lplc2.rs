@@ -310,8 +310,9 @@ fn lm<const SH: u32>(own_on: u32, own_off: u32, s_on: u32, s_off: u32, shift: u3
 }
 
 /// `[Σ LM_r, Σ LM_l, Σ LM_v]` over the columns `s..e` of the row, `N` connected neurons: `v`
-/// (the direction of the vertical sums in the row's columns) always, `r` if `R`, `l` if `L` (0 for a direction
-/// not asked: a segment right of every field's centroid needs no `l`, Eq. 8). `SH` as in [`lm`].
+/// (the direction of the vertical sums in the row's columns) if `V`, `r` if `R`, `l` if `L`
+/// (0 for a direction not asked: a segment right of every field's centroid needs no `l`,
+/// Eq. 8). `SH` as in [`lm`].
 ///
 /// Horizontal neighbour sums are running windows in registers:
 /// `R(x) = Σ_{c=1..N} P(x + c)`, `R(x+1) = R(x) + P(x+1+N) − P(x+1)`;
