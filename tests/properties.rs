@@ -198,12 +198,19 @@ fn valid_params() -> impl Strategy<Value = Params> {
         1u8..=MAX_REACH,
         1u8..=16,
     );
-    let third = (0u8..=24, 1u8..=99, 0u8..=100, threshold(), 0u8..=100);
+    let third = (
+        0u8..=24,
+        1u8..=99,
+        0u8..=100,
+        threshold(),
+        0u8..=100,
+        1u8..=4,
+    );
     let random = (first, second, third).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
-            (lm_shift, r_c, c_frac, q_floor, q_balance),
+            (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
         )| Params {
             w,
             n,
@@ -222,6 +229,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             c_frac,
             q_floor,
             q_balance,
+            q_arms,
         },
     );
     prop_oneof![1 => Just(Params::default()), 3 => random]
@@ -272,11 +280,13 @@ fn check(p: &Params, index: usize, out: &Perception) -> Result<(), TestCaseError
             ctx()
         );
         prop_assert!(af.age >= 1, "{}", ctx());
-        // Eq. (9): zero, or the (saturating) sum of four quadrants all above the floor
+        // Eq. (9): zero, or the (saturating) sum of four quadrants, at least `q_arms` of them
+        // above the floor (all four with the paper's gate)
         let sum = af.quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q));
         prop_assert!(af.lplc2 == 0 || af.lplc2 == sum, "{}", ctx());
         if af.lplc2 > 0 {
-            prop_assert!(af.quadrants.iter().all(|&q| q > p.q_floor), "{}", ctx());
+            let excited = af.quadrants.iter().filter(|&&q| q > p.q_floor).count();
+            prop_assert!(excited >= usize::from(p.q_arms), "{}", ctx());
         }
     }
     let total = out.afs.iter().fold(0u32, |a, f| a.saturating_add(f.lplc2));
@@ -488,6 +498,7 @@ fn bad_value() -> impl Strategy<Value = Bad> {
         bad_u8(1, 99).prop_map(|v| Bad::U8("r_c", v)),
         bad_u8(0, 100).prop_map(|v| Bad::U8("c_frac", v)),
         bad_u8(0, 100).prop_map(|v| Bad::U8("q_balance", v)),
+        bad_u8(1, 4).prop_map(|v| Bad::U8("q_arms", v)),
         bad_u8(1, MAX_D).prop_map(|v| Bad::U8("d", v)),
         bad_u8(1, MAX_REACH).prop_map(|v| Bad::U8("s", v)),
         bad_u8(1, 16).prop_map(|v| Bad::U8("gain", v)),
@@ -517,6 +528,7 @@ impl Bad {
                     "r_c" => p.r_c = v,
                     "c_frac" => p.c_frac = v,
                     "q_balance" => p.q_balance = v,
+                    "q_arms" => p.q_arms = v,
                     "d" => p.d = v,
                     "s" => p.s = v,
                     "gain" => p.gain = v,

@@ -260,7 +260,7 @@ struct ArenaArgs {
     #[arg(long, default_value = "out/arena", value_name = "DIR")]
     png: PathBuf,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance.
+    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
@@ -274,7 +274,7 @@ struct ArenaArgs {
 #[derive(clap::Args)]
 struct ModelArgs {
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance.
+    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.

@@ -14,8 +14,9 @@
 //! field excites the four quadrants symmetrically.
 //!
 //! Eq. (9): `LPLC2 = bool(∏Q)·ΣQ`, the cell fires only when every arm sees its preferred
-//! (outward) motion. A quadrant counts as excited only above the noise floor `q_floor`: without it
-//! sensor noise alone opens the gate now and then (`docs/model.md`).
+//! (outward) motion (`q_arms` = 4; the authors' firmware opens at 3). A quadrant counts as
+//! excited only above the noise floor `q_floor`: without it sensor noise alone opens the gate
+//! now and then (`docs/model.md`).
 
 use crate::dsp;
 use crate::frame::{HEIGHT, WIDTH};
@@ -32,11 +33,34 @@ pub struct Lplc2 {
 
 impl Lplc2 {
     /// Eq. (9) on the quadrant sums of Eq. (8), each saturated to `u32`.
-    fn from_sums(q: [u64; 4], q_floor: u32, q_balance: u8) -> Self {
+    fn from_sums(q: [u64; 4], g: &Gate) -> Self {
         let quadrants = q.map(|v| v.min(u64::from(u32::MAX)) as u32);
         Lplc2 {
             quadrants,
-            response: gate(quadrants, q_floor, q_balance),
+            response: gate(quadrants, g),
+        }
+    }
+}
+
+/// When Eq. (9)'s gate opens: how many quadrants must be excited, and what counts as excited.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Gate {
+    /// A quadrant is excited only above this noise floor (`Params::q_floor`).
+    pub floor: u32,
+    /// … and at or above this share of the strongest quadrant, in percent (`Params::q_balance`).
+    pub balance: u8,
+    /// Excited quadrants needed (`Params::q_arms`): 4 is Eq. (9)'s product, 3 the authors'
+    /// firmware.
+    pub arms: u8,
+}
+
+impl Gate {
+    /// The gate of the parameters `p`.
+    pub fn of(p: &crate::params::Params) -> Self {
+        Gate {
+            floor: p.q_floor,
+            balance: p.q_balance,
+            arms: p.q_arms,
         }
     }
 }
@@ -63,16 +87,18 @@ pub fn quadrant_of(x: usize, y: usize, cx: usize, cy: usize) -> Option<usize> {
 }
 
 /// Eq. (9): the gate and sum over four quadrant values. A quadrant is excited when it exceeds
-/// the absolute floor `q_floor` and `q_balance` % of the strongest quadrant: an arm that sees a
+/// the absolute floor `g.floor` and `g.balance` % of the strongest quadrant: an arm that sees a
 /// trickle while another sees a flood is not "receiving its preferred motion" (translation and
-/// gratings flood two arms and leak into the other two).
-pub fn gate(quadrants: [u32; 4], q_floor: u32, q_balance: u8) -> u32 {
+/// gratings flood two arms and leak into the other two). The gate opens when at least
+/// `g.arms` quadrants are excited (Eq. 9: all four).
+pub fn gate(quadrants: [u32; 4], g: &Gate) -> u32 {
     let max = quadrants.iter().copied().max().unwrap_or(0);
-    let rel = (u64::from(max) * u64::from(q_balance)) / 100;
-    if quadrants
+    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
+    let excited = quadrants
         .iter()
-        .all(|&q| q > q_floor && u64::from(q) >= rel)
-    {
+        .filter(|&&q| q > g.floor && u64::from(q) >= rel)
+        .count();
+    if excited >= usize::from(g.arms) {
         quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q))
     } else {
         0
@@ -87,8 +113,7 @@ pub fn integrate(
     centre: (usize, usize),
     cols: (usize, usize),
     rows: (usize, usize),
-    q_floor: u32,
-    q_balance: u8,
+    g: &Gate,
 ) -> Lplc2 {
     let (cx, cy) = centre;
     let mut q = [0u64; 4];
@@ -101,7 +126,7 @@ pub fn integrate(
             }
         }
     }
-    Lplc2::from_sums(q, q_floor, q_balance)
+    Lplc2::from_sums(q, g)
 }
 
 /// Where one field integrates: its centroid and its clipped square.
@@ -122,17 +147,10 @@ pub struct Region {
 /// row by row ([`integrate_rows`]): neighbour box sums instead of per-neuron products, each
 /// needed direction's local motion once per pixel, and quadrants summed as row segments.
 /// Otherwise it takes the pixel-by-pixel [`integrate_all_general`].
-pub fn integrate_all(
-    m: &Maps,
-    sc: &LmScale,
-    regions: &[Region],
-    q_floor: u32,
-    q_balance: u8,
-    out: &mut [Lplc2],
-) {
+pub fn integrate_all(m: &Maps, sc: &LmScale, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
     match Narrow::new(sc) {
-        Some(nw) => integrate_rows(m, &nw, regions, q_floor, q_balance, out),
-        None => integrate_all_general(m, sc, regions, q_floor, q_balance, out),
+        Some(nw) => integrate_rows(m, &nw, regions, g, out),
+        None => integrate_all_general(m, sc, regions, g, out),
     }
 }
 
@@ -462,14 +480,7 @@ fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u
 /// Prefix sums over the segments then give each field its quadrant segments, Eq. (8): left of
 /// `x̄` to Q2 (l + u) or Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's
 /// own row and column belong to no quadrant. A row's sums stay below `u32::MAX` (`Narrow`).
-pub fn integrate_rows(
-    m: &Maps,
-    nw: &Narrow,
-    regions: &[Region],
-    q_floor: u32,
-    q_balance: u8,
-    out: &mut [Lplc2],
-) {
+pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
     let count = regions.len().min(out.len()).min(crate::network::MAX_AFS);
     let (regions, out) = (&regions[..count], &mut out[..count]);
     let n = nw.n.clamp(1, PAD);
@@ -610,7 +621,7 @@ pub fn integrate_rows(
         }
     }
     for (o, qk) in out.iter_mut().zip(q.iter()) {
-        *o = Lplc2::from_sums(*qk, q_floor, q_balance);
+        *o = Lplc2::from_sums(*qk, g);
     }
 }
 
@@ -622,8 +633,7 @@ pub fn integrate_all_general(
     m: &Maps,
     sc: &LmScale,
     regions: &[Region],
-    q_floor: u32,
-    q_balance: u8,
+    g: &Gate,
     out: &mut [Lplc2],
 ) {
     let n = regions.len().min(out.len());
@@ -661,7 +671,7 @@ pub fn integrate_all_general(
         }
     }
     for (o, qk) in out.iter_mut().zip(q.iter()) {
-        *o = Lplc2::from_sums(*qk, q_floor, q_balance);
+        *o = Lplc2::from_sums(*qk, g);
     }
 }
 
@@ -683,15 +693,35 @@ mod tests {
         assert_eq!(quadrant_of(60, 30, 50, 30), None);
     }
 
+    fn g(floor: u32, balance: u8, arms: u8) -> Gate {
+        Gate {
+            floor,
+            balance,
+            arms,
+        }
+    }
+
     #[test]
     fn gate_needs_all_four_arms_above_the_floor() {
-        assert_eq!(gate([10, 20, 30, 40], 5, 0), 100);
-        assert_eq!(gate([10, 20, 0, 40], 0, 0), 0);
-        assert_eq!(gate([10, 20, 5, 40], 5, 0), 0);
-        assert_eq!(gate([u32::MAX, 1, 1, 1], 0, 0), u32::MAX);
+        assert_eq!(gate([10, 20, 30, 40], &g(5, 0, 4)), 100);
+        assert_eq!(gate([10, 20, 0, 40], &g(0, 0, 4)), 0);
+        assert_eq!(gate([10, 20, 5, 40], &g(5, 0, 4)), 0);
+        assert_eq!(gate([u32::MAX, 1, 1, 1], &g(0, 0, 4)), u32::MAX);
         // balance: every arm at least 25 % of the strongest
-        assert_eq!(gate([10, 20, 30, 40], 5, 25), 100);
-        assert_eq!(gate([9, 20, 30, 40], 5, 25), 0);
+        assert_eq!(gate([10, 20, 30, 40], &g(5, 25, 4)), 100);
+        assert_eq!(gate([9, 20, 30, 40], &g(5, 25, 4)), 0);
+        assert_eq!(Gate::of(&Params::PAPER).arms, 4);
+    }
+
+    #[test]
+    fn gate_with_three_arms_lets_one_quadrant_be_quiet() {
+        // one arm below the floor (the firmware's "3 of 4 expansion edges")
+        assert_eq!(gate([10, 20, 5, 40], &g(5, 0, 3)), 75);
+        // one below the balance
+        assert_eq!(gate([9, 20, 30, 40], &g(5, 25, 3)), 99);
+        // two quiet arms (translation floods two) still close it
+        assert_eq!(gate([0, 20, 0, 40], &g(5, 0, 3)), 0);
+        assert_eq!(gate([0, 20, 0, 40], &g(5, 0, 2)), 60);
     }
 
     /// A dark square's outline one pixel larger now than one frame earlier.
@@ -719,13 +749,13 @@ mod tests {
         // OFF channel edges: expanding = small at t−1, large at t
         let grow = cells_of([&zero, &large, &zero, &small]);
         let grow = Maps::new(&grow);
-        let l = integrate(&grow, &sc, (50, 36), cols, rows, 0, 0);
+        let l = integrate(&grow, &sc, (50, 36), cols, rows, &g(0, 0, 4));
         assert!(l.quadrants.iter().all(|&q| q > 0), "{:?}", l.quadrants);
         assert_eq!(l.quadrants[0], l.quadrants[2], "symmetric stimulus");
         assert_eq!(l.response, l.quadrants.iter().sum::<u32>());
         let shrink = cells_of([&zero, &small, &zero, &large]);
         let shrink = Maps::new(&shrink);
-        let l = integrate(&shrink, &sc, (50, 36), cols, rows, 0, 0);
+        let l = integrate(&shrink, &sc, (50, 36), cols, rows, &g(0, 0, 4));
         assert_eq!(l.quadrants, [0; 4]);
         assert_eq!(l.response, 0);
     }
@@ -756,11 +786,11 @@ mod tests {
             },
         ];
         let mut all = [Lplc2::default(); 3];
-        integrate_all(&m, &sc, &regions, 300, 15, &mut all);
+        integrate_all(&m, &sc, &regions, &g(300, 15, 4), &mut all);
         for (r, got) in regions.iter().zip(all.iter()) {
             assert_eq!(
                 *got,
-                integrate(&m, &sc, r.centre, r.cols, r.rows, 300, 15),
+                integrate(&m, &sc, r.centre, r.cols, r.rows, &g(300, 15, 4)),
                 "{r:?}"
             );
         }
@@ -850,8 +880,9 @@ mod tests {
             gain in 1u8..=16,
             w in prop::sample::select(&[0.0f32, 0.25, 0.5, 1.0, 0.3, 2.0, 4.0][..]),
             lm_shift in 0u8..=24,
-            q_floor in 0u32..2000,
-            q_balance in 0u8..=100,
+            floor in 0u32..2000,
+            balance in 0u8..=100,
+            arms in 0u8..=4,
             regions in prop::collection::vec(region(), 0..=crate::network::MAX_AFS),
         ) {
             let maps = maps_of(seed, kind);
@@ -862,9 +893,10 @@ mod tests {
             prop_assert_eq!(p.validate(), Ok(()));
             let sc = LmScale::new(&p);
             let mut all = [Lplc2::default(); crate::network::MAX_AFS];
-            integrate_all(&m, &sc, &regions, q_floor, q_balance, &mut all);
+            let g = Gate { floor, balance, arms };
+            integrate_all(&m, &sc, &regions, &g, &mut all);
             for (r, got) in regions.iter().zip(all.iter()) {
-                let want = integrate(&m, &sc, r.centre, r.cols, r.rows, q_floor, q_balance);
+                let want = integrate(&m, &sc, r.centre, r.cols, r.rows, &g);
                 prop_assert_eq!(*got, want, "{:?} n{} s{} gain{} w{} shift{}", r, n, s, gain, w, lm_shift);
             }
         }

@@ -249,8 +249,7 @@ impl Network {
             &maps,
             &self.scale,
             &regions,
-            p.q_floor,
-            p.q_balance,
+            &lplc2::Gate::of(&p),
             &mut lplc,
         );
         mark(Stage::Motion);

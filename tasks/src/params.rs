@@ -56,6 +56,9 @@ pub struct Params {
     /// Balance of the quadrants, Eq. (9), in percent: each must reach this share of the
     /// strongest one to count as excited. Unstated; see `docs/model.md`.
     pub q_balance: u8,
+    /// Excited quadrants needed to open the gate, Eq. (9). The paper's product `∏Q` needs all
+    /// 4; the authors' firmware opens at 3 of 4 ("expansion edges"); see `docs/model.md`.
+    pub q_arms: u8,
 }
 
 impl Params {
@@ -78,10 +81,11 @@ impl Params {
         c_frac: 50,
         q_floor: 250,
         q_balance: 15,
+        q_arms: 4,
     };
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 17] = [
+    pub const NAMES: [&'static str; 18] = [
         "w",
         "n",
         "r_af",
@@ -99,6 +103,7 @@ impl Params {
         "c_frac",
         "q_floor",
         "q_balance",
+        "q_arms",
     ];
 
     /// Checks every value is in the range the model can compute with (no panic, no overflow).
@@ -109,6 +114,7 @@ impl Params {
         check_int("r_c", self.r_c.into(), 1, 99)?;
         check_int("c_frac", self.c_frac.into(), 0, 100)?;
         check_int("q_balance", self.q_balance.into(), 0, 100)?;
+        check_int("q_arms", self.q_arms.into(), 1, 4)?;
         check_int("d", self.d.into(), 1, MAX_D.into())?;
         check_f32("w_s", self.w_s, 1e-3, 1e9)?;
         check_f32("alpha", self.alpha, -10.0, 10.0)?;
@@ -151,8 +157,9 @@ impl Params {
             "r_c" => p.r_c = parse(name, v)?,
             "c_frac" => p.c_frac = parse(name, v)?,
             "q_floor" => p.q_floor = parse(name, v)?,
+            "q_balance" => p.q_balance = parse(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.q_balance = parse(name, v)?,
+            _ => p.q_arms = parse(name, v)?,
         }
         p.validate()?;
         *self = p;
