@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use alvs_host::arena::{Kind, World};
 use alvs_host::experiments::arena::{
-    run, start_poses, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
+    run, start_poses, trace_header, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
     START_WALL_CLEARANCE_MM,
 };
 use serde_json::Value;
@@ -165,6 +165,62 @@ fn deterministic_by_seed_whatever_the_threads() {
 }
 
 #[test]
+fn trace_follows_every_robot_frame_by_frame() {
+    assert!(short_run().trials.iter().all(|t| t.trace.is_empty()));
+    let c = ArenaConfig {
+        minutes: 0.1,
+        trace: true,
+        ..short_config()
+    };
+    let report = run(&c, 2, &|_| {}).unwrap();
+    let header: Vec<String> = trace_header().split(',').map(String::from).collect();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap() - 2;
+    let arena = World::default().arena;
+    for t in &report.trials {
+        assert_eq!(
+            t.trace.len() as u64,
+            t.frames * t.robots as u64,
+            "{}",
+            t.controller
+        );
+        let rows: Vec<Vec<&str>> = t.trace.iter().map(|l| l.split(',').collect()).collect();
+        // the states add up to the trial's time per state
+        let mut states = std::collections::BTreeMap::new();
+        for r in &rows {
+            assert_eq!(r.len(), header.len() - 2, "{r:?}");
+            *states.entry(r[col("state")].to_string()).or_insert(0u64) += 1;
+            let f = |name: &str| r[col(name)].parse::<f64>().unwrap();
+            let wall = arena.wall_distance(f("x_mm"), f("y_mm"));
+            assert!((f("wall_mm") - wall).abs() <= 0.11, "{r:?}");
+            assert!(f("nearest_robot_mm") >= 0.0, "{r:?}");
+            if t.controller == "alvs" {
+                // an ALVS alert is a standing field's response
+                assert_eq!(r[col("alert")] == "1", f("response") > 0.0, "{r:?}");
+            }
+        }
+        assert_eq!(states, t.state_frames, "{}", t.controller);
+        // frame-major: the last frame's lines hold the end poses
+        let last = &rows[rows.len() - t.robots..];
+        for (i, (r, end)) in last.iter().zip(&t.end_poses).enumerate() {
+            assert_eq!(r[col("robot")], i.to_string());
+            assert_eq!(r[col("frame")], (t.frames - 1).to_string());
+            assert_eq!(r[col("x_mm")], format!("{:.1}", end.x_mm));
+            assert_eq!(r[col("y_mm")], format!("{:.1}", end.y_mm));
+        }
+    }
+    let path = tmp("trace").join("trace.csv");
+    report.write_trace(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(trace_header().as_str()));
+    assert_eq!(
+        lines.count(),
+        report.trials.iter().map(|t| t.trace.len()).sum::<usize>()
+    );
+    assert!(text.contains("\nlgmd2,clutter:1,2,"));
+}
+
+#[test]
 fn controllers_start_from_the_same_poses() {
     let report = short_run();
     let (a, l) = (&report.trials[0], &report.trials[1]);
@@ -272,6 +328,8 @@ fn cli_writes_table_json_and_pictures() {
         .arg(&json)
         .arg("--png")
         .arg(d.join("png"))
+        .arg("--trace")
+        .arg(d.join("trace.csv"))
         .output()
         .unwrap();
     let (stdout, stderr) = (
@@ -298,6 +356,10 @@ fn cli_writes_table_json_and_pictures() {
         let bytes = std::fs::read(d.join("png").join(png)).unwrap();
         assert!(bytes.starts_with(b"\x89PNG"), "{png}");
     }
+    // 2 trials x 3 robots x 90 frames, after the header
+    let trace = std::fs::read_to_string(d.join("trace.csv")).unwrap();
+    assert_eq!(trace.lines().next(), Some(trace_header().as_str()));
+    assert_eq!(trace.lines().count(), 1 + 2 * 3 * 90);
 }
 
 #[test]

@@ -259,6 +259,11 @@ struct ArenaArgs {
     /// Where the trajectory pictures (one per trial) and summary.png go.
     #[arg(long, default_value = "out/arena", value_name = "DIR")]
     png: PathBuf,
+    /// Write every robot of every trial frame by frame as CSV (pose, state, alert, ΣLPLC2 or
+    /// LGMD2 spikes, X̄, fields, distance to the nearest wall and robot): about 90 bytes per
+    /// robot and frame, 29 MB for the default run.
+    #[arg(long, value_name = "PATH")]
+    trace: Option<PathBuf>,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms.
     #[arg(long = "param", value_name = "NAME=VALUE")]
@@ -669,6 +674,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         seed: a.seed,
         params: parse_params(&a.params)?,
         fsm: parse_fsm(&a.fsm)?,
+        trace: a.trace.is_some(),
         ..ArenaConfig::default()
     };
     let jobs = jobs(a.jobs)?;
@@ -686,6 +692,9 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
     bar.finish_and_clear();
     let report = report?;
     let pictures = report.write_pictures(&a.png)?;
+    if let Some(path) = &a.trace {
+        report.write_trace(path)?;
+    }
     if let Some(path) = &a.json {
         let text = serde_json::to_string(&report.json())?;
         std::fs::write(path, text + "\n")

@@ -37,6 +37,7 @@ use alvs_tasks::Params;
 use anyhow::{bail, ensure, Context, Result};
 use serde::Serialize;
 
+use super::encounter;
 use super::parallel::default_jobs;
 use crate::arena::contacts::{
     EPISODE_HYSTERESIS_MM, ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM,
@@ -107,6 +108,8 @@ pub struct ArenaConfig {
     /// Realistic sensors and motors ([`SensorNoise::typical`], default motor lag and noise,
     /// default gyro); `false` gives ideal ones.
     pub noise: bool,
+    /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
+    pub trace: bool,
 }
 
 impl Default for ArenaConfig {
@@ -121,6 +124,7 @@ impl Default for ArenaConfig {
             params: Params::default(),
             fsm: alvs_tasks::fsm::FsmParams::default(),
             noise: true,
+            trace: false,
         }
     }
 }
@@ -380,6 +384,30 @@ pub struct Trial {
     pub collision_events: Vec<CollisionMark>,
     /// Each robot's positions (x, y) mm, five per simulated second, rounded to 0.1 mm.
     pub trails: Vec<Vec<[f64; 2]>>,
+    /// With [`ArenaConfig::trace`]: one CSV line per robot and camera frame, frame-major
+    /// (the columns of [`trace_header`] after `controller,background,`); empty otherwise. Not
+    /// in the JSON.
+    #[serde(skip)]
+    pub trace: Vec<String>,
+}
+
+/// Columns of an arena trace: the trial, the robot (index from 0), the frame's
+/// [`encounter::FRAME_HEADER`] columns, and the centre's distance to the nearest wall and to
+/// the nearest other robot (empty with one robot), mm.
+pub fn trace_header() -> String {
+    format!(
+        "controller,background,robot,{},wall_mm,nearest_robot_mm",
+        encounter::FRAME_HEADER
+    )
+}
+
+/// `s` as one CSV field: quoted (inner quotes doubled) if it holds a comma, quote or newline.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 /// One controller over all backgrounds.
@@ -514,8 +542,12 @@ fn run_trial(
     let mut last: Vec<(f64, f64)> = prep.starts.iter().map(|p| (p.x_mm, p.y_mm)).collect();
     let (mut contact_frames, mut distance_mm) = (0u64, 0.0f64);
     let mut reported = 0;
+    let mut trace = Vec::new();
     for f in 1..=prep.frames {
         sim.step();
+        if config.trace {
+            trace_frame(&sim, &arena, f - 1, &mut trace);
+        }
         for (p, q) in sim.physics.poses().iter().zip(last.iter_mut()) {
             if arena.wall_distance(p.x_mm, p.y_mm) < ROBOT_RADIUS_MM + WALL_CONTACT_SLACK_MM {
                 contact_frames += 1;
@@ -590,6 +622,26 @@ fn run_trial(
         end_poses: sim.physics.poses().iter().map(|&p| p.into()).collect(),
         collision_events,
         trails,
+        trace,
+    }
+}
+
+/// Appends the trace lines of camera frame `frame` (just simulated), one per robot.
+fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<String>) {
+    let poses = sim.physics.poses();
+    for (i, (p, cmd)) in poses.iter().zip(sim.commands()).enumerate() {
+        let nearest = poses
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, q)| p.distance_to(q))
+            .reduce(f64::min)
+            .map_or(String::new(), |d| format!("{d:.1}"));
+        out.push(format!(
+            "{i},{},{:.1},{nearest}",
+            encounter::frame_csv(frame, p, cmd.state, cmd.alert, &cmd.seen),
+            arena.wall_distance(p.x_mm, p.y_mm),
+        ));
     }
 }
 
@@ -859,6 +911,24 @@ impl ArenaReport {
              episodes; at wall: % of robot time pressed against a wall; speed: mean robot speed)"
         );
         out
+    }
+
+    /// Writes every trial's trace as CSV ([`trace_header`], then the trials in order; empty
+    /// unless the run had [`ArenaConfig::trace`]).
+    pub fn write_trace(&self, path: &Path) -> Result<()> {
+        use std::io::Write;
+        let file = std::fs::File::create(path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        let mut out = std::io::BufWriter::new(file);
+        writeln!(out, "{}", trace_header())?;
+        for t in &self.trials {
+            let lead = format!("{},{}", t.controller, csv_field(&t.background));
+            for line in &t.trace {
+                writeln!(out, "{lead},{line}")?;
+            }
+        }
+        out.flush()
+            .with_context(|| format!("cannot write {}", path.display()))
     }
 
     /// Writes one top-down trajectory picture per trial (`<controller>_<background>.png`) and

@@ -148,31 +148,43 @@ pub struct TraceRow {
     pub distance_mm: Vec<f64>,
 }
 
+macro_rules! frame_header {
+    () => {
+        "frame,t_s,x_mm,y_mm,heading_deg,state,alert,short_mode,response,threat_x,fields"
+    };
+}
+
+/// The columns every frame-by-frame trace shares ([`frame_csv`]).
+pub const FRAME_HEADER: &str = frame_header!();
+
 /// Columns of a trace row ([`TraceRow::csv`]), after the caller's own leading columns.
-pub const TRACE_HEADER: &str =
-    "frame,t_s,x_mm,y_mm,heading_deg,state,alert,short_mode,response,threat_x,fields,distance_mm";
+pub const TRACE_HEADER: &str = concat!(frame_header!(), ",distance_mm");
+
+/// One robot's camera frame `frame` as the CSV fields of [`FRAME_HEADER`]: its pose after
+/// the frame's physics and what its controller did and saw.
+pub fn frame_csv(frame: u64, pose: &Pose, state: &str, alert: bool, seen: &Seen) -> String {
+    format!(
+        "{},{:.4},{:.1},{:.1},{:.1},{},{},{},{},{},{}",
+        frame,
+        (frame + 1) as f64 * FRAME_DT_S,
+        pose.x_mm,
+        pose.y_mm,
+        pose.heading_deg,
+        state,
+        u8::from(alert),
+        u8::from(seen.short_mode),
+        seen.response,
+        seen.threat_x.map_or(String::new(), |x| format!("{x:.1}")),
+        seen.fields,
+    )
+}
 
 impl TraceRow {
     /// The row as CSV fields ([`TRACE_HEADER`]); distances to several obstacles are joined by `;`.
     pub fn csv(&self) -> String {
         let d: Vec<String> = self.distance_mm.iter().map(|d| format!("{d:.1}")).collect();
-        format!(
-            "{},{:.4},{:.1},{:.1},{:.1},{},{},{},{},{},{},{}",
-            self.frame,
-            (self.frame + 1) as f64 * FRAME_DT_S,
-            self.pose.x_mm,
-            self.pose.y_mm,
-            self.pose.heading_deg,
-            self.state,
-            u8::from(self.alert),
-            u8::from(self.seen.short_mode),
-            self.seen.response,
-            self.seen
-                .threat_x
-                .map_or(String::new(), |x| format!("{x:.1}")),
-            self.seen.fields,
-            d.join(";"),
-        )
+        let head = frame_csv(self.frame, &self.pose, self.state, self.alert, &self.seen);
+        format!("{head},{}", d.join(";"))
     }
 }
 
