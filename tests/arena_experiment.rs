@@ -186,24 +186,44 @@ fn trace_follows_every_robot_frame_by_frame() {
         let rows: Vec<Vec<&str>> = t.trace.iter().map(|l| l.split(',').collect()).collect();
         // the states add up to the trial's time per state
         let mut states = std::collections::BTreeMap::new();
-        for r in &rows {
-            assert_eq!(r.len(), header.len() - 2, "{r:?}");
-            *states.entry(r[col("state")].to_string()).or_insert(0u64) += 1;
-            let f = |name: &str| r[col(name)].parse::<f64>().unwrap();
-            let wall = arena.wall_distance(f("x_mm"), f("y_mm"));
-            assert!((f("wall_mm") - wall).abs() <= 0.11, "{r:?}");
-            assert!(f("nearest_robot_mm") >= 0.0, "{r:?}");
-            if t.controller == "alvs" {
-                // an ALVS alert is a standing field's response
-                assert_eq!(r[col("alert")] == "1", f("response") > 0.0, "{r:?}");
+        // frame-major: one line per robot, in order, for every frame
+        for (frame, lines) in rows.chunks(t.robots).enumerate() {
+            let num = |r: &[&str], name: &str| r[col(name)].parse::<f64>().unwrap();
+            let xy: Vec<(f64, f64)> = lines
+                .iter()
+                .map(|r| (num(r, "x_mm"), num(r, "y_mm")))
+                .collect();
+            for (i, r) in lines.iter().enumerate() {
+                assert_eq!(r.len(), header.len() - 2, "{r:?}");
+                assert_eq!(r[col("robot")], i.to_string(), "{r:?}");
+                assert_eq!(r[col("frame")], frame.to_string(), "{r:?}");
+                assert_eq!(
+                    r[col("t_s")],
+                    format!("{:.4}", (frame + 1) as f64 / 30.0),
+                    "{r:?}"
+                );
+                *states.entry(r[col("state")].to_string()).or_insert(0u64) += 1;
+                let f = |name: &str| num(r, name);
+                let wall = arena.wall_distance(f("x_mm"), f("y_mm"));
+                assert!((f("wall_mm") - wall).abs() <= 0.11, "{r:?}");
+                // the nearest other robot of the same frame (positions rounded to 0.1 mm)
+                let nearest = xy
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, q)| (q.0 - xy[i].0).hypot(q.1 - xy[i].1))
+                    .fold(f64::INFINITY, f64::min);
+                assert!((f("nearest_robot_mm") - nearest).abs() <= 0.2, "{r:?}");
+                if t.controller == "alvs" {
+                    // an ALVS alert is a standing field's response
+                    assert_eq!(r[col("alert")] == "1", f("response") > 0.0, "{r:?}");
+                }
             }
         }
         assert_eq!(states, t.state_frames, "{}", t.controller);
-        // frame-major: the last frame's lines hold the end poses
+        // the last frame's lines hold the end poses
         let last = &rows[rows.len() - t.robots..];
-        for (i, (r, end)) in last.iter().zip(&t.end_poses).enumerate() {
-            assert_eq!(r[col("robot")], i.to_string());
-            assert_eq!(r[col("frame")], (t.frames - 1).to_string());
+        for (r, end) in last.iter().zip(&t.end_poses) {
             assert_eq!(r[col("x_mm")], format!("{:.1}", end.x_mm));
             assert_eq!(r[col("y_mm")], format!("{:.1}", end.y_mm));
         }
@@ -218,6 +238,36 @@ fn trace_follows_every_robot_frame_by_frame() {
         report.trials.iter().map(|t| t.trace.len()).sum::<usize>()
     );
     assert!(text.contains("\nlgmd2,clutter:1,2,"));
+}
+
+#[test]
+fn trace_quotes_a_background_path_and_leaves_a_lone_robot_without_neighbour() {
+    let d = tmp("quoted");
+    let wall = d.join("wall, \"grey\".png");
+    alvs_host::canvas::Canvas::new(64, 32, [128, 128, 128])
+        .save_png(&wall)
+        .unwrap();
+    let c = ArenaConfig {
+        robots: 1,
+        minutes: 0.02,
+        backgrounds: vec![wall.display().to_string()],
+        controllers: vec![Kind::Lgmd2],
+        trace: true,
+        ..short_config()
+    };
+    let report = run(&c, 1, &|_| {}).unwrap();
+    let path = d.join("trace.csv");
+    report.write_trace(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let quoted = format!("\"{}\"", wall.display().to_string().replace('"', "\"\""));
+    let first = text.lines().nth(1).unwrap();
+    assert!(
+        first.starts_with(&format!("lgmd2,{quoted},0,0,")),
+        "{first}"
+    );
+    // no other robot: the last column is empty
+    assert!(first.ends_with(','), "{first}");
+    assert_eq!(text.lines().count(), 1 + 36);
 }
 
 #[test]
@@ -386,7 +436,7 @@ fn cli_helps() {
 #[test]
 fn bad_arguments_are_one_clear_line_and_a_failure() {
     let d = tmp("bad");
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 11] = [
         (&["--background", "nosuch"], "nosuch"),
         (&["--background", "checker:-3"], "positive"),
         (&["--robots", "0"], "at least 1"),
@@ -396,6 +446,9 @@ fn bad_arguments_are_one_clear_line_and_a_failure() {
         (&["--controller", "fly"], "possible values"),
         (&["--jobs", "0"], "at least 1"),
         (&["--param", "bogus=1"], "unknown parameter"),
+        // refused before anything runs, not after a 10-minute run
+        (&["--trace", "/nonexistent/dir/trace.csv"], "cannot write"),
+        (&["--minutes", "1000", "--trace", "t.csv"], "--trace"),
     ];
     for (args, expect) in cases {
         let out = alvs()

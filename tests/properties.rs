@@ -678,12 +678,22 @@ fn params_set_accepts_only_valid_text() {
             ("c_frac", 0, 100),
             ("d", 1, MAX_D),
             ("lm_shift", 0, 24),
+            ("q_balance", 0, 100),
+            ("q_arms", 1, 4),
         ] {
             let r = p.set(name, &format!(" {v} "));
             assert_eq!(r.is_ok(), (lo..=hi).contains(&v), "{name} = {v}: {r:?}");
         }
     }
-    assert_eq!((p.r_af, p.c_frac, p.d, p.lm_shift), (99, 100, MAX_D, 24));
+    assert_eq!(
+        (p.r_af, p.c_frac, p.d, p.lm_shift, p.q_balance, p.q_arms),
+        (99, 100, MAX_D, 24, 100, 4)
+    );
+    // each name sets its own field
+    let mut q = Params::default();
+    q.set("q_arms", "3").unwrap();
+    q.set("q_balance", "40").unwrap();
+    assert_eq!((q.q_arms, q.q_balance), (3, 40));
     for t in [0u32, 1, 7000, u32::MAX] {
         assert_eq!(p.set("t_s", &t.to_string()), Ok(()));
         assert_eq!(p.t_s, t);

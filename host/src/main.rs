@@ -260,8 +260,8 @@ struct ArenaArgs {
     #[arg(long, default_value = "out/arena", value_name = "DIR")]
     png: PathBuf,
     /// Write every robot of every trial frame by frame as CSV (pose, state, alert, ΣLPLC2 or
-    /// LGMD2 spikes, X̄, fields, distance to the nearest wall and robot): about 90 bytes per
-    /// robot and frame, 29 MB for the default run.
+    /// LGMD2 spikes, X̄, fields, distance to the nearest wall and robot): about 85 bytes per
+    /// robot and frame, 28 MB for the default run.
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -679,6 +679,10 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
     };
     let jobs = jobs(a.jobs)?;
     config.validate()?;
+    if let Some(path) = &a.trace {
+        // fail before the run, not after it
+        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
+    }
     // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).
     let bar = indicatif::ProgressBar::new(arena::total_frames(&config));
     bar.set_style(
@@ -705,6 +709,9 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
     writeln!(out, "{} pictures in {}", pictures.len(), a.png.display())?;
     if let Some(path) = &a.json {
         writeln!(out, "JSON in {}", path.display())?;
+    }
+    if let Some(path) = &a.trace {
+        writeln!(out, "trace in {}", path.display())?;
     }
     Ok(())
 }

@@ -67,6 +67,13 @@ pub const START_WALL_CLEARANCE_MM: f64 = WALL_ENCOUNTER_DISTANCE_MM + EPISODE_HY
 /// Longest trial accepted, simulated minutes (a week of wall time at worst).
 pub const MAX_MINUTES: f64 = 10_000.0;
 
+/// Most lines a `--trace` may hold (robot-frames over all trials): ≈ 1.7 GB of memory and
+/// file, 60 times the default run's 324,000.
+pub const MAX_TRACE_LINES: u64 = 20_000_000;
+
+/// Typical length of a trace line, bytes (for the messages).
+const TRACE_LINE_BYTES: u64 = 85;
+
 /// A robot whose body is within this of a wall, mm, is pressed against it (the physics keeps
 /// the centre exactly one radius from a wall it pushes).
 pub const WALL_CONTACT_SLACK_MM: f64 = 1.0;
@@ -182,6 +189,19 @@ impl ArenaConfig {
             if !controllers.contains(&k) {
                 controllers.push(k);
             }
+        }
+        if self.trace {
+            // the trace is kept in memory until the run ends (trials run in parallel)
+            let lines = self
+                .frames()
+                .saturating_mul(self.robots as u64)
+                .saturating_mul((backgrounds.len() * controllers.len()) as u64);
+            ensure!(
+                lines <= MAX_TRACE_LINES,
+                "--trace: {lines} lines (≈ {} MB) is more than the {MAX_TRACE_LINES} a run may \
+                 trace; shorten --minutes or trace fewer robots, backgrounds or controllers",
+                lines.saturating_mul(TRACE_LINE_BYTES) / 1_000_000
+            );
         }
         let arena = World::default().arena;
         let starts = start_poses(&arena, self.robots, self.seed)?;
@@ -920,15 +940,17 @@ impl ArenaReport {
         let file = std::fs::File::create(path)
             .with_context(|| format!("cannot write {}", path.display()))?;
         let mut out = std::io::BufWriter::new(file);
-        writeln!(out, "{}", trace_header())?;
-        for t in &self.trials {
-            let lead = format!("{},{}", t.controller, csv_field(&t.background));
-            for line in &t.trace {
-                writeln!(out, "{lead},{line}")?;
+        let mut write = || -> std::io::Result<()> {
+            writeln!(out, "{}", trace_header())?;
+            for t in &self.trials {
+                let lead = format!("{},{}", t.controller, csv_field(&t.background));
+                for line in &t.trace {
+                    writeln!(out, "{lead},{line}")?;
+                }
             }
-        }
-        out.flush()
-            .with_context(|| format!("cannot write {}", path.display()))
+            out.flush()
+        };
+        write().with_context(|| format!("cannot write {}", path.display()))
     }
 
     /// Writes one top-down trajectory picture per trial (`<controller>_<background>.png`) and
