@@ -936,21 +936,19 @@ impl ArenaReport {
     /// Writes every trial's trace as CSV ([`trace_header`], then the trials in order; empty
     /// unless the run had [`ArenaConfig::trace`]).
     pub fn write_trace(&self, path: &Path) -> Result<()> {
-        use std::io::Write;
-        let file = std::fs::File::create(path)
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        let mut out = std::io::BufWriter::new(file);
-        let mut write = || -> std::io::Result<()> {
-            writeln!(out, "{}", trace_header())?;
-            for t in &self.trials {
-                let lead = format!("{},{}", t.controller, csv_field(&t.background));
-                for line in &t.trace {
-                    writeln!(out, "{lead},{line}")?;
-                }
-            }
-            out.flush()
-        };
-        write().with_context(|| format!("cannot write {}", path.display()))
+        let leads: Vec<String> = self
+            .trials
+            .iter()
+            .map(|t| format!("{},{}", t.controller, csv_field(&t.background)))
+            .collect();
+        encounter::write_csv(
+            path,
+            &trace_header(),
+            leads
+                .iter()
+                .zip(&self.trials)
+                .map(|(lead, t)| (lead.as_str(), t.trace.as_slice())),
+        )
     }
 
     /// Writes one top-down trajectory picture per trial (`<controller>_<background>.png`) and

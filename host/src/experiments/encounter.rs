@@ -188,6 +188,13 @@ impl TraceRow {
     }
 }
 
+impl std::fmt::Display for TraceRow {
+    /// [`TraceRow::csv`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.csv())
+    }
+}
+
 /// What happened.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EncounterResult {
@@ -234,19 +241,37 @@ pub fn write_trace(
     lead_header: &str,
     trials: &[(String, Vec<TraceRow>)],
 ) -> anyhow::Result<()> {
+    write_csv(
+        path,
+        &format!("{lead_header},{TRACE_HEADER}"),
+        trials
+            .iter()
+            .map(|(lead, rows)| (lead.as_str(), rows.as_slice())),
+    )
+}
+
+/// Writes a CSV trace: `header`, then per trial each of its lines prefixed by the trial's
+/// leading fields (`lead,line`). Every trace of the experiments is written by it.
+pub fn write_csv<'a, L: std::fmt::Display + 'a>(
+    path: &std::path::Path,
+    header: &str,
+    trials: impl IntoIterator<Item = (&'a str, &'a [L])>,
+) -> anyhow::Result<()> {
     use anyhow::Context;
     use std::io::Write;
     let file =
         std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
     let mut out = std::io::BufWriter::new(file);
-    writeln!(out, "{lead_header},{TRACE_HEADER}")?;
-    for (lead, rows) in trials {
-        for r in rows {
-            writeln!(out, "{lead},{}", r.csv())?;
+    let write = || -> std::io::Result<()> {
+        writeln!(out, "{header}")?;
+        for (lead, lines) in trials {
+            for line in lines {
+                writeln!(out, "{lead},{line}")?;
+            }
         }
-    }
-    out.flush()
-        .with_context(|| format!("cannot write {}", path.display()))
+        out.flush()
+    };
+    write().with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The tested robot's start pose.
