@@ -490,13 +490,8 @@ fn example_pictures() {
         &frame_picture(&r.render(&[eye, ahead, right, at_bearing(&eye, -20.0, 500.0)], 0)),
         "/tmp/arena_stripes_three.png",
     );
-    let photo = "../shared/stimuli/outdoor_1.jpg";
-    let photo = if std::path::Path::new(photo).exists() {
-        photo.to_string()
-    } else {
-        format!("../{photo}")
-    };
-    let outdoor = World::with_texture(WallTexture::from_spec(&photo).unwrap());
+    let photo = alvs_host::data::photo_path(1);
+    let outdoor = World::with_texture(WallTexture::from_spec(&photo.to_string_lossy()).unwrap());
     let r = Renderer::new(&outdoor);
     save(
         &frame_picture(&r.render(&[eye, ahead, right], 0)),

@@ -1,13 +1,11 @@
 //! The LGMD2 baseline (`alvs_host::lgmd2`): hand-computed checks of each layer on tiny inputs,
-//! whole-network properties (priming, rest, determinism, reset, extreme input), and the shared
-//! looming clips of `../shared/stimuli` with a per-clip table for both parameter sets.
+//! whole-network properties (priming, rest, determinism, reset, extreme input), and the
+//! looming clips of `tests/data/clips` with a per-clip table for both parameter sets.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-
-use alvs_host::clip;
 use alvs_host::lgmd2::*;
+use alvs_host::{clip, data};
 use alvs_tasks::{Frame, PIXELS, WIDTH};
+use std::io::Write;
 
 fn close(a: f32, b: f32) -> bool {
     (a - b).abs() <= 1e-4 * (1.0 + a.abs().max(b.abs()))
@@ -524,8 +522,9 @@ fn drive(
 
 #[test]
 fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
-    // LGMD2.md: "a turn of random sign and magnitude, then straight on"; the authors' firmware
-    // queues a long turn and drives on at its cruise speed, the LGMD2 running on every frame
+    // docs/lgmd2.md, "On the robot": a turn of random sign and magnitude, then straight on; the
+    // authors' firmware queues a long turn and drives on at its cruise speed, the LGMD2 running on
+    // every frame
     let p = alvs_tasks::fsm::FsmParams::default();
     for seed in 1..=4 {
         let mut c =
@@ -577,7 +576,7 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// the shared clips
+// the clips of tests/data/clips
 
 /// Writes to the process's stderr directly: the harness captures `println!`, and the table is
 /// meant to be read in every CI log.
@@ -585,11 +584,6 @@ macro_rules! table {
     ($($arg:tt)*) => {{
         let _ = writeln!(std::io::stderr(), $($arg)*);
     }};
-}
-
-fn stimuli_dir() -> Option<PathBuf> {
-    let d = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/stimuli")).to_path_buf();
-    d.join("manifest.csv").exists().then_some(d)
 }
 
 struct ClipRun {
@@ -633,33 +627,23 @@ impl ClipRun {
     }
 }
 
-fn run_clips(params: &Lgmd2Params) -> Option<Vec<ClipRun>> {
-    let Some(dir) = stimuli_dir() else {
-        // CI sets ALVS_REQUIRE_STIMULI: there a missing folder is a failure, not a skip
-        assert!(
-            std::env::var_os("ALVS_REQUIRE_STIMULI").is_none(),
-            "ALVS_REQUIRE_STIMULI is set but ../shared/stimuli (next to the repository) is missing"
-        );
-        table!("SKIPPED: ../shared/stimuli not found next to the repository; the LGMD2 clip tests did not run");
-        return None;
-    };
-    let manifest = std::fs::read_to_string(dir.join("manifest.csv")).expect("manifest.csv");
-    let mut runs = Vec::new();
-    for line in manifest.lines().skip(1).filter(|l| !l.trim().is_empty()) {
-        let cols: Vec<&str> = line.splitn(6, ',').collect();
-        assert!(cols.len() >= 5, "manifest line {line:?}");
-        let (name, looming) = (cols[0], cols[4] == "yes");
-        let frames = clip::load(&dir.join(format!("{name}.y8")), 99, 72).expect("clip");
-        let mut m = Lgmd2::new(params.clone());
-        let outs = frames.iter().map(|f| m.step(f)).collect();
-        runs.push(ClipRun {
-            name: name.into(),
-            looming,
-            frames: frames.len(),
-            outs,
-        });
-    }
-    Some(runs)
+fn run_clips(params: &Lgmd2Params) -> Vec<ClipRun> {
+    data::manifest()
+        .expect("tests/data/clips/manifest.csv")
+        .into_iter()
+        .map(|c| {
+            let frames = clip::load(&data::clip_path(&c.name), 99, 72).expect("clip");
+            assert_eq!(frames.len(), c.frames, "{}: frame count", c.name);
+            let mut m = Lgmd2::new(params.clone());
+            let outs = frames.iter().map(|f| m.step(f)).collect();
+            ClipRun {
+                name: c.name,
+                looming: c.looming,
+                frames: frames.len(),
+                outs,
+            }
+        })
+        .collect()
 }
 
 fn print_table(title: &str, runs: &[ClipRun]) {
@@ -725,9 +709,7 @@ fn find<'a>(runs: &'a [ClipRun], name: &str) -> &'a ClipRun {
 
 #[test]
 fn shared_clips_colias_baseline() {
-    let Some(runs) = run_clips(&Lgmd2Params::colias()) else {
-        return;
-    };
+    let runs = run_clips(&Lgmd2Params::colias());
     print_table("colias() (the default, the robot baseline)", &runs);
     let silent: Vec<String> = runs
         .iter()
@@ -762,9 +744,7 @@ fn shared_clips_colias_baseline() {
 
 #[test]
 fn shared_clips_reference() {
-    let Some(runs) = run_clips(&Lgmd2Params::reference()) else {
-        return;
-    };
+    let runs = run_clips(&Lgmd2Params::reference());
     print_table("reference() (the C# reference values)", &runs);
     // with T_sp = 0.78 and 8 spikes, only the high-contrast synthetic approach alerts
     assert!(find(&runs, "test_black_approach").collisions() > 0);

@@ -1,18 +1,12 @@
-//! The shared looming clips against `manifest.csv`: alert on every looming clip, during
-//! expansion; none on receding, translating or grating; threat side right/left/left/right on
-//! the four-quadrant clips; several attention fields on the multi clips. Prints a table.
+//! The looming clips of `tests/data/clips` against their `manifest.csv`: alert on every looming
+//! clip, during expansion; none on receding, translating or grating; threat side
+//! right/left/left/right on the four-quadrant clips; several attention fields on the multi clips.
+//! Prints a table.
 
-use std::path::{Path, PathBuf};
-
-use alvs_host::clip;
 use alvs_host::replay::{FrameJson, Pipeline};
+use alvs_host::{clip, data};
 use alvs_tasks::fsm::{Behaviour, FsmParams};
 use alvs_tasks::Params;
-
-fn stimuli_dir() -> Option<PathBuf> {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/stimuli");
-    d.join("manifest.csv").exists().then_some(d)
-}
 
 struct Run {
     name: String,
@@ -22,28 +16,11 @@ struct Run {
     max_afs: usize,
 }
 
-fn run_all() -> Option<Vec<Run>> {
-    let Some(dir) = stimuli_dir() else {
-        // CI sets ALVS_REQUIRE_STIMULI: there a missing folder is a failure, not a skip
-        assert!(
-            std::env::var_os("ALVS_REQUIRE_STIMULI").is_none(),
-            "ALVS_REQUIRE_STIMULI is set but ../shared/stimuli (next to the repository) is missing"
-        );
-        // written to the process's stderr directly, so the test harness does not swallow it
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "SKIPPED: ../shared/stimuli not found next to the repository; the clip tests did not run"
-        );
-        return None;
-    };
-    let manifest = std::fs::read_to_string(dir.join("manifest.csv")).expect("manifest");
+fn run_all() -> Vec<Run> {
     let mut runs = Vec::new();
-    for line in manifest.lines().skip(1).filter(|l| !l.trim().is_empty()) {
-        let cols: Vec<&str> = line.splitn(6, ',').collect();
-        let (name, category, looming) = (cols[0], cols[3], cols[4] == "yes");
-        let frames = clip::load(&dir.join(format!("{name}.y8")), 99, 72).expect("clip");
-        assert_eq!(frames.len().to_string(), cols[1], "{name}: frame count");
+    for c in data::manifest().expect("tests/data/clips/manifest.csv") {
+        let frames = clip::load(&data::clip_path(&c.name), 99, 72).expect("clip");
+        assert_eq!(frames.len(), c.frames, "{}: frame count", c.name);
         let mut pipe =
             Pipeline::new(Params::default(), FsmParams::default(), Behaviour::Escape).unwrap();
         let mut recs = Vec::new();
@@ -54,14 +31,14 @@ fn run_all() -> Option<Vec<Run>> {
             recs.push(j);
         }
         runs.push(Run {
-            name: name.into(),
-            category: category.into(),
-            looming,
+            name: c.name,
+            category: c.category,
+            looming: c.looming,
             recs,
             max_afs,
         });
     }
-    Some(runs)
+    runs
 }
 
 fn side(r: &FrameJson) -> char {
@@ -83,7 +60,7 @@ macro_rules! table {
 
 #[test]
 fn clips_behave_as_the_manifest_says() {
-    let Some(runs) = run_all() else { return };
+    let runs = run_all();
     table!(
         "{:<40} {:>7} {:>6} {:>6} {:>5} {:>7}  timeline (R/L alert side, S short mode)",
         "clip",
@@ -148,7 +125,7 @@ fn clips_behave_as_the_manifest_says() {
 
 #[test]
 fn four_quadrant_threats_are_right_left_left_right() {
-    let Some(runs) = run_all() else { return };
+    let runs = run_all();
     for r in runs.iter().filter(|r| r.name.contains("four_quadrants")) {
         for (phase, start, want) in [(1, 0, 'R'), (2, 50, 'L'), (3, 100, 'L'), (4, 150, 'R')] {
             // the expansion lasts 40 frames; allow 8 frames of lag
@@ -172,7 +149,7 @@ fn four_quadrant_threats_are_right_left_left_right() {
 
 #[test]
 fn alerts_only_during_expansion_on_the_phase_clips() {
-    let Some(runs) = run_all() else { return };
+    let runs = run_all();
     for r in runs.iter().filter(|r| r.category == "phases") {
         // expansions: 0-39 of every 100 frames (recede_center: expand 0-39, hold, recede, gone);
         // four_quadrants: 0-39 of every 50. Allow 8 frames of lag after the expansion ends.

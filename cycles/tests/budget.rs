@@ -1,16 +1,16 @@
 //! The deadline and RAM budget of the firmware, proven on the Cortex-M4 cycle model: the
 //! firmware's own release build, its exported `alvs_bench_step`, on constructed worst cases and
-//! (when `../shared/stimuli` is present) the busiest shared clips. Gates CI:
+//! the busiest looming clips of `tests/data/clips`. Gates CI:
 //! - outputs bit-identical to the host build of the same code on every frame;
 //! - counts identical run to run;
 //! - pessimistic worst case ≤ 80 % of the 6.0 M-cycle frame period;
 //! - static RAM and measured stack under their ceilings.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use alvs_cycles::budget::{
-    build_firmware, clips, ms, run_scene, table, worst_cases, Bench, SceneResult, GATE_CLIPS,
-    GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES,
+    build_firmware, clips, ms, run_scene, table, worst_cases, Bench, SceneResult, CLIPS_DIR,
+    GATE_CLIPS, GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES,
 };
 
 /// Static RAM ceiling (.data + .bss + .uninit, all regions): the measured 41,556 B plus a
@@ -32,39 +32,20 @@ fn elf() -> Vec<u8> {
     std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-fn stimuli() -> Option<PathBuf> {
-    let dir = root().join("../shared/stimuli");
-    if dir.is_dir() {
-        Some(dir)
-    } else if std::env::var_os("ALVS_REQUIRE_STIMULI").is_some() {
-        panic!(
-            "{} is absent and ALVS_REQUIRE_STIMULI is set",
-            dir.display()
-        );
-    } else {
-        println!(
-            "SKIPPED clips: {} is absent (constructed cases still run)",
-            dir.display()
-        );
-        None
-    }
-}
-
 #[test]
 fn the_frame_fits_the_deadline_with_bit_identical_outputs() {
     let elf = elf();
     let mut bench = Bench::new(&elf).expect("the firmware exports the bench entry");
     let mut scenes = worst_cases();
-    if let Some(dir) = stimuli() {
-        let found = clips(&dir, Some(&GATE_CLIPS)).expect("clips load");
-        assert_eq!(
-            found.len(),
-            GATE_CLIPS.len(),
-            "gate clips missing in {}",
-            dir.display()
-        );
-        scenes.extend(found);
-    }
+    let dir = root().join(CLIPS_DIR);
+    let found = clips(&dir, Some(&GATE_CLIPS)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        found.len(),
+        GATE_CLIPS.len(),
+        "gate clips missing in {}",
+        dir.display()
+    );
+    scenes.extend(found);
     let results: Vec<SceneResult> = scenes
         .iter()
         .map(|s| run_scene(&mut bench, s).unwrap_or_else(|e| panic!("{e}")))

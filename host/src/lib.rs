@@ -4,6 +4,7 @@
 pub mod arena;
 pub mod canvas;
 pub mod clip;
+pub mod data;
 pub mod experiments;
 pub mod lgmd2;
 pub mod replay;

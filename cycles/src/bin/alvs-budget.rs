@@ -1,14 +1,14 @@
 //! `alvs-budget`: the firmware's frame budget on the Cortex-M4 cycle model (what
 //! `cargo alvs budget` runs). Builds the firmware, runs its exported bench entry on the
-//! constructed worst cases and the shared clips, checks every output against the host build,
-//! and prints the table (or `--json` for tooling).
+//! constructed worst cases and the looming clips of tests/data/clips, checks every output against
+//! the host build, and prints the table (or `--json` for tooling).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_cycles::budget::{
     build_firmware, clips, ms, profile_scene, run_scene, table, worst_cases, Bench, Profile,
-    SceneResult, GATE_CLIPS, GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES, STAGE_NAMES,
+    SceneResult, CLIPS_DIR, GATE_CLIPS, GATE_CYCLES, GOAL_CYCLES, PERIOD_CYCLES, STAGE_NAMES,
 };
 use clap::Parser;
 
@@ -23,8 +23,8 @@ struct Args {
     /// stack peak.
     #[arg(long)]
     json: bool,
-    /// Folder of the shared `.y8` clips.
-    #[arg(long, value_name = "DIR", default_value = "../shared/stimuli")]
+    /// Folder of `.y8` clips (relative paths are taken from the workspace root).
+    #[arg(long, value_name = "DIR", default_value = CLIPS_DIR)]
     clips: PathBuf,
     /// Run every clip of the folder (minutes), not only the CI gate's busiest four.
     #[arg(long)]
@@ -69,14 +69,10 @@ fn run(a: Args) -> Result<(), String> {
     } else {
         a.clips.clone()
     };
-    if dir.is_dir() {
-        let only: Option<&[&str]> = if a.all_clips { None } else { Some(&GATE_CLIPS) };
-        scenes.extend(clips(&dir, only)?);
-    } else if !a.json {
-        eprintln!("note: {} is absent: constructed cases only", dir.display());
-    }
+    let only: Option<&[&str]> = if a.all_clips { None } else { Some(&GATE_CLIPS) };
+    scenes.extend(clips(&dir, only)?);
     if let Some(name) = &a.profile {
-        if dir.is_dir() && !a.all_clips {
+        if !a.all_clips {
             scenes.extend(clips(&dir, None)?.into_iter().filter(|s| &s.name == name));
         }
         let scene = scenes
