@@ -36,7 +36,7 @@ static RTT_DROPPED: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU3
 const TELEMETRY_QUEUE: usize = 4;
 
 // Dispatchers for the software tasks (priorities 1, 2, 3): the interrupts of SPI4, SPI5 and
-// SPI6, peripherals this firmware does not use and HARDWARE.md assigns nothing to.
+// SPI6, peripherals this firmware does not use and docs/hardware.md assigns nothing to.
 // RTIC's generated `spawn` returns its message in `Err`: a `Perception` (≈ 240 B) for motor
 // control, copied once per frame; boxing is not an option without a heap.
 #[allow(clippy::result_large_err)]

@@ -2,11 +2,11 @@
 //!
 //! The LGMD2 visual neural network of Fu, Hu, Peng, Rind and Yue, "A Robust Collision Perception
 //! Visual Neural Network with Specific Selectivity to Darker Objects" (IEEE Trans. Cybernetics,
-//! 2019), written from `../shared/LGMD2.md`, on the robot's 99x72 Y8 frames. The paper compares
+//! 2019), written from `docs/lgmd2.md`, on the robot's 99x72 Y8 frames. The paper compares
 //! ALVS against "a state-of-the-art LGMD2-based embedded system": that is [`Lgmd2Params::colias`],
 //! the default. [`Lgmd2Params::reference`] is the authors' open-source C# reference.
 //!
-//! Step numbers ("LGMD2.md 4") refer to the numbered list of `../shared/LGMD2.md`:
+//! Step numbers ("docs/lgmd2.md 4") refer to the numbered list of `docs/lgmd2.md`:
 //!
 //! | step | what | function |
 //! |---|---|---|
@@ -25,7 +25,7 @@
 //! nonsensical but finite-or-saturated outputs; [`Lgmd2Params::validate`] says what is wrong),
 //! and it is deterministic: the same frames give the same outputs, bit for bit.
 //!
-//! ## Interpretations (where LGMD2.md leaves a choice, or where the two sources differ)
+//! ## Interpretations (where docs/lgmd2.md leaves a choice, or where the two sources differ)
 //!
 //! The two sources checked are the authors' C# reference (GitHub `fuqinbing/LGMD2-open-source`,
 //! `lgmd2OpenSource.cs`) and the authors' Colias LGMD2 firmware (`coliasSense_LGMD.c`, Fu 2019,
@@ -38,16 +38,16 @@
 //!    (MP 0, SMP 0.5 = sigmoid(0), SFA 0.5 = the SFA floor, no spike, no collision). The
 //!    delayed ON/OFF layers and the PM start at zero, as in both sources, so the first
 //!    processed frames of an already-moving scene are barely inhibited: a start-up transient
-//!    (with `colias()`, an alert at frame 2 of the shared grating, translating and receding
+//!    (with `colias()`, an alert at frame 2 of the grating, translating and receding
 //!    clips). A controller should create (or reset) the model once and keep stepping it.
-//! 3. **Borders replicate the edge pixel** (LGMD2.md) for every 3x3 operation, in both
+//! 3. **Borders replicate the edge pixel** (docs/lgmd2.md) for every 3x3 operation, in both
 //!    parameter sets. (The firmware skips the 1-pixel frame border instead, leaving S = G = 0
 //!    there: 338 of 7128 cells.)
-//! 4. **G layer**: LGMD2.md writes the scale with `max|Ce|·C_de` and the threshold with `C_w`,
-//!    and notes the reference divides by `0.01 + max|Ce|/4`. Both sources (and the paper)
-//!    use `ω = Δ_C + max|Ce| / C_w` with `C_w = 4`, and keep G where `G·C_de ≥ T_de` with
-//!    `C_de = 0.5`, `T_de = 15` (that is G ≥ 30). We follow the code. The Colias "G threshold
-//!    35" is the firmware's `CdeTde = 35` compared with G directly: `C_de = 1`, `T_de = 35`.
+//! 4. **G layer**: both sources (and the paper) scale by `ω = Δ_C + max|Ce| / C_w` with
+//!    `C_w = 4`, and keep G where `G·C_de ≥ T_de` with `C_de = 0.5`, `T_de = 15` (that is
+//!    G ≥ 30); docs/lgmd2.md step 6 says it that way. (One version of the reference divides by
+//!    `0.01 + max|Ce|/4`, the same thing.) The Colias "G threshold 35" is the firmware's
+//!    `CdeTde = 35` compared with G directly: `C_de = 1`, `T_de = 35`.
 //! 5. **Colias `K_spi = 0.5` is the sigmoid's coefficient**: the firmware computes
 //!    `SMP = 1 / (1 + exp(−MP / (N_cell · K_spi)))` and keeps the spike coefficient at 4
 //!    (`a4 = 4`). So `colias()` has `c_sig = 0.5` (the reference's `C_sig = 1`) and
@@ -64,7 +64,7 @@
 //!    uint8. Where the firmware's float-to-uint8 conversion can overflow (G = S·Ce/ω can exceed
 //!    255, which is undefined behaviour in C), we saturate at 255. MP, SMP and SFA are floats,
 //!    as in the firmware.
-//! 7. **PM low-pass**: LGMD2.md's recursive low-pass `pm(t) = α·mean|P| + (1−α)·pm(t−1)`, in
+//! 7. **PM low-pass**: docs/lgmd2.md's recursive low-pass `pm(t) = α·mean|P| + (1−α)·pm(t−1)`, in
 //!    both parameter sets (the reference's form). The firmware blends the current mean with the
 //!    previous *unfiltered* mean instead (a two-tap filter); for sustained motion both settle to
 //!    the same value.
@@ -131,7 +131,7 @@ fn truncate(v: f32, max: f32) -> f32 {
 }
 
 /// One 3x3 lateral-inhibition kernel and the delays of its three kinds of position
-/// (LGMD2.md 4).
+/// (docs/lgmd2.md 4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Kernel3 {
     /// Weight of the centre cell.
@@ -172,23 +172,23 @@ pub struct Lgmd2Params {
     /// P = `(L(t) − L(t−1)) >> p_shift`, clamped to `±(255 >> p_shift)`: 0 (reference),
     /// 1 (Colias' 7-bit difference, interpretation 6).
     pub p_shift: u32,
-    /// τ_PM in ms (LGMD2.md 2): 90.
+    /// τ_PM in ms (docs/lgmd2.md 2): 90.
     pub tau_pm_ms: f32,
-    /// T_pm (LGMD2.md 2): 8 (reference), 10 (Colias).
+    /// T_pm (docs/lgmd2.md 2): 8 (reference), 10 (Colias).
     pub t_pm: f32,
     /// Floor of the ON inhibition bias W_i_on: 1.
     pub w_i_on_base: f32,
     /// Floor of the OFF inhibition bias W_i_off: 0.5.
     pub w_i_off_base: f32,
-    /// ON/OFF clip point (LGMD2.md 3): 0.1.
+    /// ON/OFF clip point (docs/lgmd2.md 3): 0.1.
     pub clip: f32,
-    /// ON/OFF carry-over dc (LGMD2.md 3): 0.1 (reference), 0 (Colias).
+    /// ON/OFF carry-over dc (docs/lgmd2.md 3): 0.1 (reference), 0 (Colias).
     pub dc: f32,
     /// ON inhibition kernel.
     pub on_kernel: Kernel3,
     /// OFF inhibition kernel.
     pub off_kernel: Kernel3,
-    /// S = w_on·S_on + w_off·S_off + w_onoff·S_on·S_off (LGMD2.md 5): 1, 1, 1 (reference);
+    /// S = w_on·S_on + w_off·S_off + w_onoff·S_on·S_off (docs/lgmd2.md 5): 1, 1, 1 (reference);
     /// 0.5, 1, 0 (Colias).
     pub w_on: f32,
     /// See [`Lgmd2Params::w_on`].
@@ -206,15 +206,15 @@ pub struct Lgmd2Params {
     /// Sigmoid coefficient: SMP = 1 / (1 + exp(−MP / (N_cell·c_sig))): 1 (reference),
     /// 0.5 (Colias' K_spi, interpretation 5).
     pub c_sig: f32,
-    /// τ_sfa in ms (LGMD2.md 8): 800 (reference), 500 (Colias).
+    /// τ_sfa in ms (docs/lgmd2.md 8): 800 (reference), 500 (Colias).
     pub tau_sfa_ms: f32,
-    /// T_sfa (LGMD2.md 8): 0.003.
+    /// T_sfa (docs/lgmd2.md 8): 0.003.
     pub t_sfa: f32,
     /// Floor of SFA: 0.5.
     pub sfa_floor: f32,
-    /// C_spi (LGMD2.md 9): 4.
+    /// C_spi (docs/lgmd2.md 9): 4.
     pub c_spi: f32,
-    /// T_sp (LGMD2.md 9): 0.78 (reference), 0.63 (Colias).
+    /// T_sp (docs/lgmd2.md 9): 0.78 (reference), 0.63 (Colias).
     pub t_sp: f32,
     /// Spikes in one burst that make a collision: 8 (reference), 4 (Colias).
     pub n_sp: u32,
@@ -230,7 +230,7 @@ impl Default for Lgmd2Params {
 }
 
 impl Lgmd2Params {
-    /// The authors' C# reference (`lgmd2OpenSource.cs`), LGMD2.md steps 1–9 as written.
+    /// The authors' C# reference (`lgmd2OpenSource.cs`), docs/lgmd2.md steps 1–9 as written.
     pub fn reference() -> Self {
         Lgmd2Params {
             fps: 30,
@@ -262,7 +262,7 @@ impl Lgmd2Params {
         }
     }
 
-    /// The authors' Colias embedded variant (LGMD2.md, last paragraph): T_pm 10, no ON/OFF
+    /// The authors' Colias embedded variant (docs/lgmd2.md, last paragraph): T_pm 10, no ON/OFF
     /// carry-over, uint8 layers with kernels as shifts, S = 0.5·S_on + S_off, G threshold 35,
     /// K_spi 0.5 (the sigmoid's), τ_sfa 500 ms, T_sp 0.63, collision at ≥ 4 accumulated
     /// spikes.
@@ -336,7 +336,7 @@ impl Lgmd2Params {
     }
 }
 
-/// Low-pass coefficient `Δt / (Δt + τ)` (LGMD2.md 2, 4); 1 (no delay) if that is undefined.
+/// Low-pass coefficient `Δt / (Δt + τ)` (docs/lgmd2.md 2, 4); 1 (no delay) if that is undefined.
 pub fn lowpass_coefficient(dt_ms: f32, tau_ms: f32) -> f32 {
     let a = dt_ms / (dt_ms + tau_ms);
     if a.is_finite() {
@@ -346,7 +346,7 @@ pub fn lowpass_coefficient(dt_ms: f32, tau_ms: f32) -> f32 {
     }
 }
 
-/// High-pass coefficient of the SFA `τ_sfa / (τ_sfa + Δt)` (LGMD2.md 8); 0 if undefined.
+/// High-pass coefficient of the SFA `τ_sfa / (τ_sfa + Δt)` (docs/lgmd2.md 8); 0 if undefined.
 pub fn sfa_coefficient(dt_ms: f32, tau_sfa_ms: f32) -> f32 {
     let hp = tau_sfa_ms / (tau_sfa_ms + dt_ms);
     if hp.is_finite() {
@@ -356,7 +356,7 @@ pub fn sfa_coefficient(dt_ms: f32, tau_sfa_ms: f32) -> f32 {
     }
 }
 
-/// LGMD2.md 1, P layer: `P = (L(t) − L(t−1)) >> shift`, clamped to `±(255 >> shift)`
+/// docs/lgmd2.md 1, P layer: `P = (L(t) − L(t−1)) >> shift`, clamped to `±(255 >> shift)`
 /// (the firmware's int8 range for shift 1). Only the common length of the slices is written.
 pub fn p_layer(cur: &[u8], prev: &[u8], shift: u32, p: &mut [f32]) {
     let shift = shift.min(7);
@@ -367,7 +367,7 @@ pub fn p_layer(cur: &[u8], prev: &[u8], shift: u32, p: &mut [f32]) {
     }
 }
 
-/// LGMD2.md 2: the mean of |P| over the layer (0 for an empty layer).
+/// docs/lgmd2.md 2: the mean of |P| over the layer (0 for an empty layer).
 pub fn mean_abs(p: &[f32]) -> f32 {
     if p.is_empty() {
         return 0.0;
@@ -405,19 +405,19 @@ fn lanes_max_abs(v: &[f32]) -> f32 {
     acc.iter().fold(tail, |m, &a| m.max(a))
 }
 
-/// LGMD2.md 2: `pm(t) = α·mean|P| + (1 − α)·pm(t−1)` with `α = Δt / (Δt + τ_PM)`.
+/// docs/lgmd2.md 2: `pm(t) = α·mean|P| + (1 − α)·pm(t−1)` with `α = Δt / (Δt + τ_PM)`.
 pub fn pm_update(pm_prev: f32, mean_abs_p: f32, alpha: f32) -> f32 {
     alpha * mean_abs_p + (1.0 - alpha) * pm_prev
 }
 
-/// LGMD2.md 2: `(W_i_on, W_i_off) = (max(pm / T_pm, on_base), max(pm / T_pm, off_base))`.
+/// docs/lgmd2.md 2: `(W_i_on, W_i_off) = (max(pm / T_pm, on_base), max(pm / T_pm, off_base))`.
 pub fn inhibition_biases(pm: f32, t_pm: f32, on_base: f32, off_base: f32) -> (f32, f32) {
     let r = pm / t_pm;
     // f32::max ignores a NaN (T_pm = 0 with pm = 0): the bases hold
     (r.max(on_base), r.max(off_base))
 }
 
-/// LGMD2.md 3, ON/OFF split with carry-over:
+/// docs/lgmd2.md 3, ON/OFF split with carry-over:
 /// `ON = P + dc·ON(t−1)` if `P ≥ clip` else `dc·ON(t−1)`;
 /// `OFF = |P| + dc·OFF(t−1)` if `P < clip` else `dc·OFF(t−1)`.
 /// In [`Arithmetic::Uint8`] the results are truncated to uint8.
@@ -451,7 +451,7 @@ fn padded_len(width: usize, height: usize) -> usize {
 }
 
 /// Fills the 1-cell ring of a padded grid (row stride `width + 2`) from its interior: borders
-/// replicate the edge cell (LGMD2.md), so every 3x3 neighbourhood is a plain offset.
+/// replicate the edge cell (docs/lgmd2.md), so every 3x3 neighbourhood is a plain offset.
 fn replicate_ring(pad: &mut [f32], width: usize, height: usize) {
     let wp = width + 2;
     for y in 1..=height {
@@ -480,7 +480,7 @@ fn pad_grid(src: &[f32], width: usize, height: usize, pad: &mut [f32]) {
     replicate_ring(pad, width, height);
 }
 
-/// LGMD2.md 4, delayed lateral inhibition of one pathway:
+/// docs/lgmd2.md 4, delayed lateral inhibition of one pathway:
 /// `I = Σ_3x3 W · [α·X(t) + (1 − α)·X(t−1)]`, α = `alpha[0|1|2]` for the centre, the 4
 /// nearest and the 4 diagonal cells; borders replicate the edge cell.
 ///
@@ -611,7 +611,7 @@ fn lateral<const Q: bool>(
     }
 }
 
-/// The S layer's weights and the inhibition biases of one frame (LGMD2.md 5).
+/// The S layer's weights and the inhibition biases of one frame (docs/lgmd2.md 5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SWeights {
     /// W_i_on from [`inhibition_biases`].
@@ -626,7 +626,7 @@ pub struct SWeights {
     pub w_onoff: f32,
 }
 
-/// LGMD2.md 5, S layer: `S_x = max(0, X − W_i_x·I_x)` for ON and OFF, then
+/// docs/lgmd2.md 5, S layer: `S_x = max(0, X − W_i_x·I_x)` for ON and OFF, then
 /// `S = w_on·S_on + w_off·S_off + w_onoff·S_on·S_off` (truncated to uint8 in
 /// [`Arithmetic::Uint8`]).
 pub fn s_layer(
@@ -650,7 +650,7 @@ pub fn s_layer(
     }
 }
 
-/// G-layer constants (LGMD2.md 6).
+/// G-layer constants (docs/lgmd2.md 6).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GParams {
     /// Δ_C.
@@ -663,7 +663,7 @@ pub struct GParams {
     pub t_de: f32,
 }
 
-/// LGMD2.md 6, G layer: `Ce` = 3x3 mean of S (replicated border; `⌊Σ/9⌋` in
+/// docs/lgmd2.md 6, G layer: `Ce` = 3x3 mean of S (replicated border; `⌊Σ/9⌋` in
 /// [`Arithmetic::Uint8`]), `ω = Δ_C + max|Ce| / C_w`, `G = S·Ce·(1/ω)` (truncated to uint8
 /// in [`Arithmetic::Uint8`]), `G = 0` where `G·C_de < T_de`. Writes `ce` and `g`, returns
 /// `MP = ΣG`. If a slice is shorter than `width·height`, nothing is written and MP is 0.
@@ -720,12 +720,12 @@ fn g_layer_with(
     lanes_sum(&g[..n], |v| v)
 }
 
-/// LGMD2.md 7: `SMP = 1 / (1 + exp(−MP / (N_cell·c_sig)))`.
+/// docs/lgmd2.md 7: `SMP = 1 / (1 + exp(−MP / (N_cell·c_sig)))`.
 pub fn sigmoid(mp: f32, n_cell: usize, c_sig: f32) -> f32 {
     1.0 / (1.0 + (-mp / (n_cell as f32 * c_sig)).exp())
 }
 
-/// LGMD2.md 8, spike-frequency adaptation: with `ΔSMP = SMP(t) − SMP(t−1)`,
+/// docs/lgmd2.md 8, spike-frequency adaptation: with `ΔSMP = SMP(t) − SMP(t−1)`,
 /// `SFA = hp·(SFA(t−1) + ΔSMP)` if `ΔSMP ≤ T_sfa`, else `hp·SMP(t)`; never below `floor`.
 pub fn sfa_update(sfa_prev: f32, smp_prev: f32, smp: f32, hp: f32, t_sfa: f32, floor: f32) -> f32 {
     let d = smp - smp_prev;
@@ -737,14 +737,14 @@ pub fn sfa_update(sfa_prev: f32, smp_prev: f32, smp: f32, hp: f32, t_sfa: f32, f
     v.max(floor)
 }
 
-/// LGMD2.md 9: `n = ⌊exp(C_spi·(SFA − T_sp))⌋` spikes this frame (a byte in both sources:
+/// docs/lgmd2.md 9: `n = ⌊exp(C_spi·(SFA − T_sp))⌋` spikes this frame (a byte in both sources:
 /// capped at 255).
 pub fn spike_count(sfa: f32, c_spi: f32, t_sp: f32) -> u32 {
     // `clamp` keeps a NaN, and `as` sends it to 0
     (c_spi * (sfa - t_sp)).exp().clamp(0.0, 255.0) as u32
 }
 
-/// LGMD2.md 9, spike accumulation over the current burst (module doc, interpretations 11–12).
+/// docs/lgmd2.md 9, spike accumulation over the current burst (module doc, interpretations 11–12).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SpikeCounter {
     count: u32,
@@ -778,15 +778,15 @@ impl SpikeCounter {
 /// What one frame gives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lgmd2Output {
-    /// PM (low-passed mean |P|) of this frame (LGMD2.md 2).
+    /// PM (low-passed mean |P|) of this frame (docs/lgmd2.md 2).
     pub pm: f32,
-    /// MP = ΣG (LGMD2.md 6).
+    /// MP = ΣG (docs/lgmd2.md 6).
     pub mp: f32,
-    /// Sigmoid membrane potential, 0.5..1 (LGMD2.md 7).
+    /// Sigmoid membrane potential, 0.5..1 (docs/lgmd2.md 7).
     pub smp: f32,
-    /// SMP after spike-frequency adaptation, ≥ 0.5 (LGMD2.md 8).
+    /// SMP after spike-frequency adaptation, ≥ 0.5 (docs/lgmd2.md 8).
     pub sfa: f32,
-    /// Spikes this frame (LGMD2.md 9).
+    /// Spikes this frame (docs/lgmd2.md 9).
     pub spikes: u32,
     /// Spikes of the current burst, this frame's included: what the collision is judged on.
     pub accumulated: u32,
@@ -967,7 +967,7 @@ impl Lgmd2 {
         }
     }
 
-    /// One frame through LGMD2.md steps 1–9. The first frame after `new`/`reset` only primes
+    /// One frame through docs/lgmd2.md steps 1–9. The first frame after `new`/`reset` only primes
     /// (interpretation 2) and returns the resting output.
     pub fn step(&mut self, frame: &Frame) -> Lgmd2Output {
         let prm = &self.params;

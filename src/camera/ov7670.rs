@@ -1,13 +1,13 @@
 //! OV7670 facts: SCCB id, register addresses, identification values and the configuration
 //! table, as data.
 //!
-//! The values of [`CONFIG`] are those of the public Colias firmware listed in HARDWARE.md
+//! The values of [`CONFIG`] are those of the public Colias firmware listed in docs/hardware.md
 //! ("Camera: OV7670 over DCMI"); they were never checked on a board. The per-register notes come
 //! from the OV7670 datasheet (rev. 1.4) and OmniVision's OV7670 implementation guide as recalled
 //! here, not re-read: where a note says "unsure", the bring-up checklist has to confirm it.
 //! Together, COM3/COM14/0x72/0x73/0xA2 are, as far as we recall, the implementation guide's
-//! down-scaled ("QQCIF", 88x72) setting; HARDWARE.md says the frames the firmware processes are
-//! 99x72, so the real output size has to be measured on the first frames (and the DCMI crop
+//! down-scaled ("QQCIF", 88x72) setting; docs/hardware.md says the frames the firmware processes
+//! are 99x72, so the real output size has to be measured on the first frames (and the DCMI crop
 //! window set from it).
 
 /// SCCB id of the OV7670 for writes, 8-bit form (0x43 for reads; 7-bit address 0x21).
@@ -48,8 +48,8 @@ pub mod reg {
 
 /// Expected [`reg::PID`] of an OV7670 (datasheet default, read-only).
 pub const EXPECTED_PID: u8 = 0x76;
-/// Expected [`reg::VER`] of an OV7670 (datasheet default, read-only; HARDWARE.md "sensor id
-/// 0x73").
+/// Expected [`reg::VER`] of an OV7670 (datasheet default, read-only; docs/hardware.md: VER =
+/// 0x73).
 pub const EXPECTED_VER: u8 = 0x73;
 
 /// [`reg::COM7`] value that resets every register to its default (bit 7, self-clearing).
@@ -76,8 +76,8 @@ pub const CONFIG: &[(u8, u8)] = &[
     (reg::COM7, 0x08),
     // COM3 0x0C. Bit 3: scaling enable; bit 2: DCW (down-sample/crop/window) enable; bit 6 =
     // 0: no output MSB/LSB swap. The YUV byte order (TSLB 0x3A, COM13 0x3D) stays at its
-    // default, believed Y U Y V (HARDWARE.md's public code finds luminance on even bytes): check
-    // on the first frame.
+    // default, believed Y U Y V (docs/hardware.md's public code finds luminance on even bytes):
+    // check on the first frame.
     (reg::COM3, 0x0C),
     // COM14 0x12. Bit 4: PCLK comes from the DCW/scaling divider instead of the normal pixel
     // clock; bits 2:0 = 010: that divider is /4, matching SCALING_PCLK_DIV (so PCLK presumably
@@ -100,17 +100,18 @@ pub const CONFIG: &[(u8, u8)] = &[
     // SCALING_PCLK_DELAY 0x2A. Bits 6:0: scaling output delay 42 (datasheet default 0x02); shifts
     // the scaled pixels within the line. Unsure of the unit (pixel clocks, presumably).
     (reg::SCALING_PCLK_DELAY, 0x2A),
-    // MVFP 0x11. Bit 4: vertical flip on (HARDWARE.md: image flipped vertically, the sensor
+    // MVFP 0x11. Bit 4: vertical flip on (docs/hardware.md: image flipped vertically, the sensor
     // sits upside down presumably); bit 5 = 0: no mirror; bit 0 reserved (written 1, unsure why;
     // probably the reserved default kept).
     (reg::MVFP, 0x11),
-    // COM8 0x8F, "AGC on" in HARDWARE.md. Bit 2: AGC on. The other bits are the datasheet reset
-    // value, kept because the public firmware's exact COM8 is not documented: bit 7 fast AGC/AEC
-    // algorithm, bit 6 = 0 AEC step limited to the vertical blank, bit 5 = 0 banding filter off,
-    // bit 1 AWB on, bit 0 AEC (auto exposure) on. Unsure whether the public firmware keeps AEC
-    // on; an exposure that tracks the scene changes global luminance, which the model sees.
+    // COM8 0x8F, automatic gain on in docs/hardware.md. Bit 2: AGC on. The other bits are the
+    // datasheet reset value, kept because the public firmware's exact COM8 is not documented: bit 7
+    // fast AGC/AEC algorithm, bit 6 = 0 AEC step limited to the vertical blank, bit 5 = 0 banding
+    // filter off, bit 1 AWB on, bit 0 AEC (auto exposure) on. Unsure whether the public firmware
+    // keeps AEC on; an exposure that tracks the scene changes global luminance, which the model
+    // sees.
     (reg::COM8, 0x8F),
-    // COM9 0x6A, "gain ceiling 0x6A" in HARDWARE.md. Bits 6:4 = 110: automatic gain ceiling
+    // COM9 0x6A, "gain ceiling 0x6A" in docs/hardware.md. Bits 6:4 = 110: automatic gain ceiling
     // 128x (datasheet default 0x4A = 32x); bits 3:1 = 101 reserved (as in the default); bit 0 =
     // 0: AGC/AEC not frozen.
     (reg::COM9, 0x6A),

@@ -3,7 +3,8 @@
 //! The sense board does not drive the motors itself: it writes the motor registers of the
 //! bottom board (the "Colias basic unit", CBU) over a UART. Every protocol fact below comes from
 //! the public C firmware of the Colias family (`coliasapi.c`, `visuomotor_LPLC2.c`) and from
-//! `HARDWARE.md`; none was checked on a board, so each is a named constant here and nowhere else.
+//! `docs/hardware.md`; none was checked on a board, so each is a named constant here and nowhere
+//! else.
 //!
 //! A frame is `head, address, data…, END`:
 //!

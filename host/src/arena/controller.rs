@@ -135,7 +135,7 @@ impl Controller for AlvsController {
     }
 }
 
-/// LGMD2 baseline behaviour (paper Sec. III, Fig. 4c; `../shared/LGMD2.md`, last paragraph): on
+/// LGMD2 baseline behaviour (paper Sec. III, Fig. 4c; `docs/lgmd2.md`, last paragraph): on
 /// a collision alert the robot turns in place by a random angle of random sign (it has no
 /// direction information), 60°–180°, then goes straight on at its cruise speed with its
 /// perception live, as the authors' Colias LGMD2 firmware does (`Decision_making` queues a long

@@ -1,5 +1,5 @@
-//! A simulated yaw gyro (the MPU9250 of the 2025 Colias firmware, HARDWARE.md) integrated into a
-//! heading, behind the firmware's own interface `alvs_tasks::fsm::HeadingEstimator`.
+//! A simulated yaw gyro (the MPU9250 of the 2025 Colias firmware, docs/hardware.md) integrated into
+//! a heading, behind the firmware's own interface `alvs_tasks::fsm::HeadingEstimator`.
 //!
 //! The physics feeds it the body's true yaw rate every step ([`SimGyro::sense`]); it integrates
 //! `rate · (1 + scale error) + bias + white noise`, with the bias drifting as a random walk.

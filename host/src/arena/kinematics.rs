@@ -27,9 +27,9 @@
 use super::rng::Rng;
 use super::world::{wrap_deg, Pose};
 
-/// Distance between the wheels, mm (HARDWARE.md; `FsmParams::track_mm`).
+/// Distance between the wheels, mm (docs/hardware.md; `FsmParams::track_mm`).
 pub const TRACK_MM: f64 = 48.0;
-/// Camera frames per second (HARDWARE.md: 30 fps, ≈ 32 ms frame interval).
+/// Camera frames per second (docs/hardware.md: 30 fps, ≈ 32 ms frame interval).
 pub const FRAME_RATE_HZ: f64 = 30.0;
 /// One camera frame, s.
 pub const FRAME_DT_S: f64 = 1.0 / FRAME_RATE_HZ;
@@ -54,8 +54,8 @@ pub struct MotorParams {
 }
 
 impl Default for MotorParams {
-    /// Choices, not measurements (the paper and HARDWARE.md give none): 50 ms lag, typical of a
-    /// geared micro DC motor with the bottom board's speed loop; 5 % speed error with 1 s
+    /// Choices, not measurements (the paper and docs/hardware.md give none): 50 ms lag, typical of
+    /// a geared micro DC motor with the bottom board's speed loop; 5 % speed error with 1 s
     /// correlation, so that a robot told to go straight curves gently, as small robots do.
     fn default() -> Self {
         MotorParams {

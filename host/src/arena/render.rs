@@ -8,8 +8,8 @@
 //! `c` (0 = left) and row `y` (0 = top) are centred on the image points `c` and `y`, the axis
 //! passes through ([`CENTRE_COLUMN`], [`CENTRE_ROW`]) = (49, 35.5). The focal length
 //! [`FOCAL_PX`] = 49 / tan 35° puts the centres of the outermost columns at ±35°: a 70°
-//! horizontal field (HARDWARE.md; ≈ 54° vertically). A point at bearing β (positive = right) and
-//! height `z` at axial depth `s` (distance along the optical axis) is imaged at
+//! horizontal field (docs/hardware.md; ≈ 54° vertically). A point at bearing β (positive = right)
+//! and height `z` at axial depth `s` (distance along the optical axis) is imaged at
 //!
 //! ```text
 //! column = 49 + f · tan β          row = 35.5 − f · (z − CAMERA_HEIGHT_MM) / s

@@ -281,7 +281,7 @@ fn supersample(cols: usize, rows: usize, f: impl Fn(f64, f64) -> f64, data: &mut
 /// 55 % and 80 % of the wall height, a bright sky above it (grey 175–200, brightest at the
 /// top), and dark vertical trunks and poles (6–30 mm wide, about one per 150 mm of wall)
 /// reaching from the ground into the sky. Matched to the three outdoor photographs of
-/// `../shared/stimuli` (sky above ground, means 113–146, RMS contrast 0.28–0.51, horizontal
+/// `tests/data/photos` (sky above ground, means 113–146, RMS contrast 0.28–0.51, horizontal
 /// amplitude spectra falling as f^−0.8 to f^−1.15). Wraps in `u`.
 fn outdoor(seed: u64, cols: usize, rows: usize, texel: f64, data: &mut [u8]) {
     clutter(seed, cols, rows, texel, data);

@@ -28,7 +28,7 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context};
 
-/// Diameter of a Colias body, mm (HARDWARE.md, community model).
+/// Diameter of a Colias body, mm (docs/hardware.md, community model).
 pub const ROBOT_DIAMETER_MM: f64 = 42.0;
 /// Radius of a Colias body, mm.
 pub const ROBOT_RADIUS_MM: f64 = ROBOT_DIAMETER_MM / 2.0;
@@ -222,7 +222,7 @@ pub enum WallTexture {
     /// A procedural outdoor scene with the statistics of natural photographs (the paper's
     /// arena showed two outdoor scenes): bright sky in the upper part, darker ground below,
     /// and 1/f ("pink") grey-level noise of RMS contrast ≈ 0.4 everywhere else, matched to the
-    /// three outdoor photographs in `../shared/stimuli` (see `texture`).
+    /// three outdoor photographs in `tests/data/photos` (see `texture`).
     Outdoor {
         /// Seed of the scene.
         seed: u64,
