@@ -906,6 +906,20 @@ fn fsm_parameters_are_set_by_name_with_checked_values() {
     // refused values leave the parameters as they were
     assert_eq!((p.settle_frames, p.heading_gain), (4, 8.5));
     assert!(FsmParamError::Unknown.to_string().contains("settle_frames"));
+    // a refusal says what is allowed
+    let msg = |name: &str, v: &str| FsmParams::default().set(name, v).unwrap_err().to_string();
+    assert_eq!(
+        msg("alert_frames", "-2"),
+        "FSM parameter alert_frames must be a whole number of frames in 0..=4294967295"
+    );
+    assert_eq!(
+        msg("cruise_mm_s", "-1"),
+        "FSM parameter cruise_mm_s must be a finite number ≥ 0"
+    );
+    assert_eq!(
+        msg("saccade_yaw_deg_s", "x"),
+        "FSM parameter saccade_yaw_deg_s must be a number ≥ 0, or inf (no suppression)"
+    );
     // every name is accepted
     for name in FsmParams::NAMES {
         assert_eq!(FsmParams::default().set(name, "1"), Ok(()), "{name}");

@@ -242,8 +242,18 @@ impl core::fmt::Display for FsmParamError {
                 }
                 f.write_str(")")
             }
+            // the counts are the `*_frames` parameters; `saccade_yaw_deg_s` may be `inf`
+            FsmParamError::Invalid { name } if name.ends_with("_frames") => write!(
+                f,
+                "FSM parameter {name} must be a whole number of frames in 0..={}",
+                u32::MAX
+            ),
+            FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
+                f,
+                "FSM parameter {name} must be a number ≥ 0, or inf (no suppression)"
+            ),
             FsmParamError::Invalid { name } => {
-                write!(f, "FSM parameter {name}: not a valid non-negative value")
+                write!(f, "FSM parameter {name} must be a finite number ≥ 0")
             }
         }
     }

@@ -106,20 +106,54 @@ impl Params {
         "q_arms",
     ];
 
+    /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
+    /// model can compute with, without a panic or an overflow. `s` is further bounded by
+    /// `n · s ≤ MAX_REACH`.
+    pub const RANGES: [Range; 18] = [
+        Range::Real(0.0, 4.0),
+        Range::Int(1, MAX_N as i64),
+        Range::Int(1, 99),
+        Range::Int(0, u32::MAX as i64),
+        Range::Int(0, u32::MAX as i64),
+        Range::Int(1, MAX_D as i64),
+        Range::Real(1e-3, 1e9),
+        Range::Real(-10.0, 10.0),
+        Range::Int(0, u32::MAX as i64),
+        Range::Real(1.0, 16.0),
+        Range::Int(1, MAX_REACH as i64),
+        Range::Int(1, 16),
+        Range::Int(0, 24),
+        Range::Int(1, 99),
+        Range::Int(0, 100),
+        Range::Int(0, u32::MAX as i64),
+        Range::Int(0, 100),
+        Range::Int(1, 4),
+    ];
+
+    /// The allowed values of the parameter `name`, `None` for an unknown name.
+    pub fn range(name: &str) -> Option<Range> {
+        let i = Params::NAMES.iter().position(|n| *n == name)?;
+        Params::RANGES.get(i).copied()
+    }
+
     /// Checks every value is in the range the model can compute with (no panic, no overflow).
     pub fn validate(&self) -> Result<(), ParamError> {
-        check_f32("w", self.w, 0.0, 4.0)?;
-        check_int("n", self.n.into(), 1, MAX_N.into())?;
-        check_int("r_af", self.r_af.into(), 1, 99)?;
-        check_int("r_c", self.r_c.into(), 1, 99)?;
-        check_int("c_frac", self.c_frac.into(), 0, 100)?;
-        check_int("q_balance", self.q_balance.into(), 0, 100)?;
-        check_int("q_arms", self.q_arms.into(), 1, 4)?;
-        check_int("d", self.d.into(), 1, MAX_D.into())?;
-        check_f32("w_s", self.w_s, 1e-3, 1e9)?;
-        check_f32("alpha", self.alpha, -10.0, 10.0)?;
-        check_f32("c_d", self.c_d, 1.0, 16.0)?;
-        check_int("s", self.s.into(), 1, MAX_REACH.into())?;
+        check_f32("w", self.w)?;
+        check_int("n", self.n.into())?;
+        check_int("r_af", self.r_af.into())?;
+        check_int("t_a", self.t_a.into())?;
+        check_int("t_d", self.t_d.into())?;
+        check_int("r_c", self.r_c.into())?;
+        check_int("c_frac", self.c_frac.into())?;
+        check_int("q_floor", self.q_floor.into())?;
+        check_int("q_balance", self.q_balance.into())?;
+        check_int("q_arms", self.q_arms.into())?;
+        check_int("d", self.d.into())?;
+        check_f32("w_s", self.w_s)?;
+        check_f32("alpha", self.alpha)?;
+        check_int("t_s", self.t_s.into())?;
+        check_f32("c_d", self.c_d)?;
+        check_int("s", self.s.into())?;
         if u32::from(self.n) * u32::from(self.s) > u32::from(MAX_REACH) {
             return Err(ParamError::OutOfRange {
                 name: "s",
@@ -127,8 +161,8 @@ impl Params {
                 max: i64::from(MAX_REACH / self.n),
             });
         }
-        check_int("gain", self.gain.into(), 1, 16)?;
-        check_int("lm_shift", self.lm_shift.into(), 0, 24)?;
+        check_int("gain", self.gain.into())?;
+        check_int("lm_shift", self.lm_shift.into())?;
         Ok(())
     }
 
@@ -141,25 +175,25 @@ impl Params {
         let mut p = *self;
         let v = value.trim();
         match name {
-            "w" => p.w = parse(name, v)?,
-            "n" => p.n = parse(name, v)?,
-            "r_af" => p.r_af = parse(name, v)?,
-            "t_a" => p.t_a = parse(name, v)?,
-            "t_d" => p.t_d = parse(name, v)?,
-            "d" => p.d = parse(name, v)?,
-            "w_s" => p.w_s = parse(name, v)?,
-            "alpha" => p.alpha = parse(name, v)?,
-            "t_s" => p.t_s = parse(name, v)?,
-            "c_d" => p.c_d = parse(name, v)?,
-            "s" => p.s = parse(name, v)?,
-            "gain" => p.gain = parse(name, v)?,
-            "lm_shift" => p.lm_shift = parse(name, v)?,
-            "r_c" => p.r_c = parse(name, v)?,
-            "c_frac" => p.c_frac = parse(name, v)?,
-            "q_floor" => p.q_floor = parse(name, v)?,
-            "q_balance" => p.q_balance = parse(name, v)?,
+            "w" => p.w = real(name, v)?,
+            "n" => p.n = int(name, v)?,
+            "r_af" => p.r_af = int(name, v)?,
+            "t_a" => p.t_a = int(name, v)?,
+            "t_d" => p.t_d = int(name, v)?,
+            "d" => p.d = int(name, v)?,
+            "w_s" => p.w_s = real(name, v)?,
+            "alpha" => p.alpha = real(name, v)?,
+            "t_s" => p.t_s = int(name, v)?,
+            "c_d" => p.c_d = real(name, v)?,
+            "s" => p.s = int(name, v)?,
+            "gain" => p.gain = int(name, v)?,
+            "lm_shift" => p.lm_shift = int(name, v)?,
+            "r_c" => p.r_c = int(name, v)?,
+            "c_frac" => p.c_frac = int(name, v)?,
+            "q_floor" => p.q_floor = int(name, v)?,
+            "q_balance" => p.q_balance = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.q_arms = parse(name, v)?,
+            _ => p.q_arms = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -178,7 +212,8 @@ impl Default for Params {
 pub enum ParamError {
     /// No parameter has that name (see [`Params::NAMES`]).
     Unknown,
-    /// The text is not a number of the parameter's type.
+    /// The text is not a number of the parameter's type (a whole number for the integer
+    /// parameters); the message gives the allowed range.
     NotANumber {
         /// Parameter name.
         name: &'static str,
@@ -207,7 +242,21 @@ impl core::fmt::Display for ParamError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match *self {
             ParamError::Unknown => write!(f, "unknown parameter (known: {})", NamesList),
-            ParamError::NotANumber { name } => write!(f, "parameter {name}: not a number"),
+            ParamError::NotANumber { name } => match Params::range(name) {
+                Some(Range::Int(min, max)) => {
+                    write!(
+                        f,
+                        "parameter {name} must be a whole number in {min}..={max}"
+                    )
+                }
+                Some(Range::Real(min, max)) => {
+                    write!(
+                        f,
+                        "parameter {name} must be a finite number in [{min}, {max}]"
+                    )
+                }
+                None => write!(f, "parameter {name}: not a number"),
+            },
             ParamError::OutOfRange { name, min, max } => {
                 write!(f, "parameter {name} must lie in {min}..={max}")
             }
@@ -234,29 +283,64 @@ impl core::fmt::Display for NamesList {
     }
 }
 
-fn parse<T: core::str::FromStr>(name: &'static str, v: &str) -> Result<T, ParamError> {
+/// The values a parameter may take.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Range {
+    /// A whole number in `min..=max`.
+    Int(i64, i64),
+    /// A finite real number in `[min, max]`.
+    Real(f32, f32),
+}
+
+/// An integer parameter from text: a whole number (with an optional sign) outside the
+/// parameter's range, however many digits it has, is out of range; anything else that does
+/// not parse is not a number.
+fn int<T: TryFrom<i64>>(name: &'static str, v: &str) -> Result<T, ParamError> {
+    let Some(Range::Int(min, max)) = Params::range(name) else {
+        return Err(ParamError::NotANumber { name });
+    };
+    let out = ParamError::OutOfRange { name, min, max };
+    let digits = v.strip_prefix(['+', '-']).unwrap_or(v);
+    let x: i64 = match v.parse() {
+        Ok(x) => x,
+        Err(_) if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => {
+            return Err(out)
+        }
+        Err(_) => return Err(ParamError::NotANumber { name }),
+    };
+    if !(min..=max).contains(&x) {
+        return Err(out);
+    }
+    T::try_from(x).map_err(|_| out)
+}
+
+/// A real parameter from text (its range is checked by `validate`).
+fn real(name: &'static str, v: &str) -> Result<f32, ParamError> {
     v.parse().map_err(|_| ParamError::NotANumber { name })
 }
 
-fn check_int(name: &'static str, v: i64, min: i64, max: i64) -> Result<(), ParamError> {
-    if (min..=max).contains(&v) {
-        Ok(())
-    } else {
-        Err(ParamError::OutOfRange { name, min, max })
+fn check_int(name: &'static str, v: i64) -> Result<(), ParamError> {
+    match Params::range(name) {
+        Some(Range::Int(min, max)) if (min..=max).contains(&v) => Ok(()),
+        Some(Range::Int(min, max)) => Err(ParamError::OutOfRange { name, min, max }),
+        _ => Err(ParamError::NotANumber { name }),
     }
 }
 
-fn check_f32(name: &'static str, v: f32, min: f32, max: f32) -> Result<(), ParamError> {
-    if v.is_finite() && v >= min && v <= max {
-        Ok(())
-    } else {
-        Err(ParamError::OutOfRangeReal { name, min, max })
+fn check_f32(name: &'static str, v: f32) -> Result<(), ParamError> {
+    match Params::range(name) {
+        Some(Range::Real(min, max)) if v.is_finite() && v >= min && v <= max => Ok(()),
+        Some(Range::Real(min, max)) => Err(ParamError::OutOfRangeReal { name, min, max }),
+        _ => Err(ParamError::NotANumber { name }),
     }
 }
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::format;
+    use std::string::ToString;
 
     #[test]
     fn defaults_are_table_one() {
@@ -286,9 +370,8 @@ mod tests {
             })
         );
         let e = Params::default().set("w_s", "0").unwrap_err();
-        extern crate std;
         assert_eq!(
-            std::format!("{e}"),
+            format!("{e}"),
             "parameter w_s must be a finite number in [0.001, 1000000000]"
         );
         // n * s may not exceed the correlator reach
@@ -299,5 +382,52 @@ mod tests {
         // a refused value leaves the parameters unchanged
         assert_eq!(p.n, 3);
         assert_eq!(p.t_a, 120);
+    }
+
+    #[test]
+    fn refusals_say_the_allowed_range() {
+        let msg = |name: &str, v: &str| Params::default().set(name, v).unwrap_err().to_string();
+        // whole numbers outside the type used to read as "not a number"
+        assert_eq!(msg("t_a", "-5"), "parameter t_a must lie in 0..=4294967295");
+        assert_eq!(msg("r_af", "100000"), "parameter r_af must lie in 1..=99");
+        assert_eq!(msg("r_af", "-1"), "parameter r_af must lie in 1..=99");
+        assert_eq!(
+            msg("q_floor", "99999999999999999999999"),
+            "parameter q_floor must lie in 0..=4294967295"
+        );
+        assert_eq!(msg("n", "x"), "parameter n must be a whole number in 1..=4");
+        assert_eq!(
+            msg("n", "2.5"),
+            "parameter n must be a whole number in 1..=4"
+        );
+        assert_eq!(msg("n", "-"), "parameter n must be a whole number in 1..=4");
+        assert_eq!(
+            msg("c_d", "two"),
+            "parameter c_d must be a finite number in [1, 16]"
+        );
+        assert_eq!(
+            msg("c_d", "40"),
+            "parameter c_d must be a finite number in [1, 16]"
+        );
+    }
+
+    #[test]
+    fn every_parameter_has_a_range_whose_ends_are_accepted() {
+        assert_eq!(Params::NAMES.len(), Params::RANGES.len());
+        for name in Params::NAMES {
+            let (lo, hi) = match Params::range(name).unwrap() {
+                Range::Int(lo, hi) => (format!("{lo}"), format!("{hi}")),
+                Range::Real(lo, hi) => (format!("{lo}"), format!("{hi}")),
+            };
+            // s reaches its end only with n = 1 (n·s ≤ MAX_REACH)
+            let mut p = Params::default();
+            if name == "s" {
+                p.n = 1;
+            }
+            let mut q = p;
+            assert_eq!(p.set(name, &lo), Ok(()), "{name}={lo}");
+            assert_eq!(q.set(name, &hi), Ok(()), "{name}={hi}");
+        }
+        assert_eq!(Params::range("nope"), None);
     }
 }
