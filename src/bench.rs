@@ -4,9 +4,9 @@
 //! and on the board, where `init` runs it on built-in frames and prints the cycles over RTT
 //! ([`self_test`]), so the model can be calibrated against the real chip.
 
-use alvs_tasks::bench::{self, Report};
-use alvs_tasks::control::Control;
-use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+use alvs_tasks::robot::bench::{self, Report};
+use alvs_tasks::robot::control::Control;
 use alvs_tasks::{Frame, Network, PIXELS};
 use cortex_m::peripheral::DWT;
 

@@ -117,9 +117,9 @@ pub const DCMI_DMA_CHANNEL: u8 = 1;
 /// the robot wanders.
 pub type MotorTxPin<MODE = gpio::DefaultMode> = gpio::PC10<MODE>;
 
-/// Baud rate of the bottom-board link, 8N1: the protocol's own constant (`tasks::motor`).
+/// Baud rate of the bottom-board link, 8N1: the protocol's own constant (`tasks::robot::motor`).
 /// Verify at bring-up (see [`MotorTxPin`]).
-pub const MOTOR_BAUD: u32 = alvs_tasks::motor::BAUD;
+pub const MOTOR_BAUD: u32 = alvs_tasks::robot::motor::BAUD;
 
 /// Bytes the motor link can hold queued (a frame period sends ≤ 3 frames of ≤ 12 bytes).
 pub const MOTOR_QUEUE_BYTES: usize = 128;

@@ -1,8 +1,8 @@
 //! The camera side of the frame path, owned by the DCMI and DMA interrupts (same priority):
 //! lines from the DMA ring stream into the network's retina under the [`Capture`] policy of
-//! `tasks::camera`; at frame complete the network goes to the perception task.
+//! `tasks::robot::camera`; at frame complete the network goes to the perception task.
 
-use alvs_tasks::camera::{self, Capture, FrameEnd, Start};
+use alvs_tasks::robot::camera::{self, Capture, FrameEnd, Start};
 use alvs_tasks::{Network, HEIGHT, WIDTH};
 use cortex_m::peripheral::DWT;
 

@@ -45,11 +45,11 @@ mod app {
     use crate::capture::FrameIn;
     use crate::motor_link::MotorLink;
     use crate::{bench, camera, setup, RTT_DROPPED, TELEMETRY_QUEUE};
-    use alvs_tasks::camera::{Counters, FrameEnd};
-    use alvs_tasks::control::Control;
-    use alvs_tasks::fsm::{Behaviour, FsmParams};
-    use alvs_tasks::health::{Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS};
-    use alvs_tasks::telemetry::Record;
+    use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+    use alvs_tasks::robot::camera::{Counters, FrameEnd};
+    use alvs_tasks::robot::control::Control;
+    use alvs_tasks::robot::health::{Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS};
+    use alvs_tasks::robot::telemetry::Record;
     use alvs_tasks::{Network, Perception};
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::DWT;
@@ -163,7 +163,7 @@ mod app {
             alvs_tasks::Params::PAPER.t_d,
             alvs_tasks::Params::PAPER.t_s,
             core::mem::size_of::<Network>(),
-            alvs_tasks::health::PRIME_FRAMES
+            alvs_tasks::robot::health::PRIME_FRAMES
         );
         supervisor::spawn().ok();
         summary::spawn().ok();

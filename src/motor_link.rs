@@ -6,7 +6,7 @@
 //! counts them: the next period resends absolute powers anyway. On a fault,
 //! [`stop_now`] writes the stop frames by polling, from any context.
 
-use alvs_tasks::motor::{self, MotorFrames};
+use alvs_tasks::robot::motor::{self, MotorFrames};
 use heapless::Deque;
 use stm32f4xx_hal::hal_02::serial::Write;
 use stm32f4xx_hal::pac;

@@ -20,7 +20,7 @@ use alvs_host::arena::{
     TopDown, WallTexture, World,
 };
 use alvs_host::canvas::{colour_cycle, Canvas, RED};
-use alvs_tasks::fsm::HeadingEstimator;
+use alvs_tasks::model::fsm::HeadingEstimator;
 use alvs_tasks::{Frame, HEIGHT, WIDTH};
 
 /// Grey of the plain walls in the geometry tests.

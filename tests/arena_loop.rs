@@ -4,7 +4,7 @@
 
 use alvs_host::arena::controller::{Scripted, Stationary};
 use alvs_host::arena::*;
-use alvs_tasks::fsm::FsmParams;
+use alvs_tasks::model::fsm::FsmParams;
 use alvs_tasks::Params;
 
 fn quiet() -> (MotorParams, GyroParams, SensorNoise) {

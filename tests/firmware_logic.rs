@@ -9,11 +9,13 @@
 //! frames, the network primes again when frames return.
 
 use alvs_host::scenes::{demo_scenes, Scene};
-use alvs_tasks::camera::{self, Capture, FrameEnd, BYTES_PER_PIXEL, FRAME_BYTES, LINE_BYTES};
-use alvs_tasks::control::Control;
-use alvs_tasks::fsm::{Behaviour, FsmParams, HeadingEstimator, State};
-use alvs_tasks::health::{Decision, Fault, Safety, SummaryWindow, PRIME_FRAMES, STALL_MS};
-use alvs_tasks::motor::{self, BoardModel, Head, MotorFrames};
+use alvs_tasks::model::fsm::{Behaviour, FsmParams, HeadingEstimator, State};
+use alvs_tasks::robot::camera::{
+    self, Capture, FrameEnd, BYTES_PER_PIXEL, FRAME_BYTES, LINE_BYTES,
+};
+use alvs_tasks::robot::control::Control;
+use alvs_tasks::robot::health::{Decision, Fault, Safety, SummaryWindow, PRIME_FRAMES, STALL_MS};
+use alvs_tasks::robot::motor::{self, BoardModel, Head, MotorFrames};
 use alvs_tasks::{Frame, Network, Perception, PIXELS, WIDTH};
 
 /// Camera frame period, ms (30 fps, rounded down).

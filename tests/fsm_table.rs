@@ -2,11 +2,11 @@
 //! the transition table, the short-mode override, the γ path and the long takeoff in closed
 //! loop with odometry, the quiet period, the takeoff timeout and robustness to bad input.
 
-use alvs_tasks::fsm::{
+use alvs_tasks::model::fsm::{
     Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
     State,
 };
-use alvs_tasks::visuomotor::{bearing, wrap_deg, Visuomotor};
+use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
 use proptest::prelude::*;
 

@@ -514,7 +514,7 @@ fn drive(
     use alvs_host::arena::controller::Controller;
     use alvs_host::arena::kinematics::{advance, body_rates, FRAME_DT_S};
     let cmd = c.step(frame, pose.heading_deg as f32);
-    let track = f64::from(alvs_tasks::fsm::FsmParams::default().track_mm);
+    let track = f64::from(alvs_tasks::model::fsm::FsmParams::default().track_mm);
     let (v, w) = body_rates(f64::from(cmd.left_mm_s), f64::from(cmd.right_mm_s), track);
     advance(pose, v, w, FRAME_DT_S);
     cmd
@@ -525,7 +525,7 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
     // docs/lgmd2.md, "On the robot": a turn of random sign and magnitude, then straight on; the
     // authors' firmware queues a long turn and drives on at its cruise speed, the LGMD2 running on
     // every frame
-    let p = alvs_tasks::fsm::FsmParams::default();
+    let p = alvs_tasks::model::fsm::FsmParams::default();
     for seed in 1..=4 {
         let mut c =
             alvs_host::arena::controller::Lgmd2Controller::new(Lgmd2Params::colias(), p, seed);
@@ -552,7 +552,7 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
                 "seed {seed}: endless turn"
             );
         }
-        let turned = alvs_tasks::fsm::heading_error_deg(pose.heading_deg as f32, h0 as f32);
+        let turned = alvs_tasks::model::fsm::heading_error_deg(pose.heading_deg as f32, h0 as f32);
         assert!(turned.abs() >= 45.0, "seed {seed}: turned only {turned}°");
         // then straight on at the cruise speed, not a sprint
         for f in 0..10 {

@@ -8,7 +8,7 @@
 
 use std::cell::Cell;
 
-use alvs_tasks::params::{MAX_D, MAX_N, MAX_REACH};
+use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
 use alvs_tasks::{Network, ParamError, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};

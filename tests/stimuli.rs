@@ -5,7 +5,7 @@
 
 use alvs_host::replay::{FrameJson, Pipeline};
 use alvs_host::{clip, data};
-use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::Params;
 
 struct Run {

@@ -1,5 +1,5 @@
 //! The deadline budget of the ALVS firmware: its exported `alvs_bench_step` (one frame of
-//! perception and control, `alvs_tasks::bench::step`) executed under the cycle model, frame by
+//! perception and control, `alvs_tasks::robot::bench::step`) executed under the cycle model, frame by
 //! frame, next to the host build of the same code.
 //!
 //! [`Bench`] places a network, a controller, a frame and a report in SRAM above the firmware's
@@ -11,9 +11,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use alvs_tasks::bench::{Report, STAMPS};
-use alvs_tasks::control::Control;
-use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+use alvs_tasks::robot::bench::{Report, STAMPS};
+use alvs_tasks::robot::control::Control;
 use alvs_tasks::{Frame, Network, PIXELS};
 
 use crate::{Error, Machine, RamReport, CLOCK_HZ};
@@ -261,7 +261,7 @@ impl HostTwin {
 
     /// One frame; the stamps are 0 (no clock on the host).
     pub fn step(&mut self, frame: &Frame) -> Report {
-        alvs_tasks::bench::step(&mut self.network, &mut self.control, frame, &mut || 0)
+        alvs_tasks::robot::bench::step(&mut self.network, &mut self.control, frame, &mut || 0)
     }
 }
 

@@ -9,7 +9,7 @@ use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats};
 use alvs_host::{clip, replay, scenes};
-use alvs_tasks::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};

@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use alvs_tasks::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry};
-use alvs_tasks::hrc::{motion_map, Direction};
+use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry};
+use alvs_tasks::model::hrc::{motion_map, Direction};
 use alvs_tasks::{Frame, Network, Params, Perception, HEIGHT, PIXELS, WIDTH};
 use anyhow::{Context, Result};
 use serde::Serialize;

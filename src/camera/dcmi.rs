@@ -9,7 +9,7 @@
 //! the ring's beginning whatever happened to the last one. The ring is in SRAM: DMA cannot
 //! reach CCM (see memory.x).
 
-use alvs_tasks::camera::LINE_BYTES;
+use alvs_tasks::robot::camera::LINE_BYTES;
 use stm32f4xx_hal::pac;
 
 use crate::board;

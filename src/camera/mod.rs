@@ -8,7 +8,7 @@
 //!    table of [`ov7670::CONFIG`], and a read-back of a few of those registers.
 //!
 //! 4. [`dcmi`]: capture of the 99x72 window into a DMA ring of lines (no frame buffer: the
-//!    lines stream into the network's retina, see `tasks::camera`).
+//!    lines stream into the network's retina, see `tasks::robot::camera`).
 //!
 //! Deciding what a camera error means for the robot is the caller's business: [`Camera::init`]
 //! reports and can be called again.

@@ -2,7 +2,7 @@
 //! perception and FSM from `alvs_tasks`), its swarm variant, and the LGMD2 baseline with its
 //! direction-blind escape. A scripted controller drives obstacle robots.
 
-use alvs_tasks::fsm::{Behaviour, Fsm, FsmParams, State};
+use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, State};
 use alvs_tasks::{Frame, Network, Params};
 
 use crate::arena::rng::Rng;
@@ -194,11 +194,12 @@ impl Controller for Lgmd2Controller {
                 let mag = LGMD2_TURN_MIN_DEG
                     + (LGMD2_TURN_MAX_DEG - LGMD2_TURN_MIN_DEG) * self.rng.uniform() as f32;
                 let sign = if self.rng.uniform() < 0.5 { -1.0 } else { 1.0 };
-                self.setpoint_deg = alvs_tasks::visuomotor::wrap_deg(heading_deg + sign * mag);
+                self.setpoint_deg =
+                    alvs_tasks::model::visuomotor::wrap_deg(heading_deg + sign * mag);
                 self.enter(State::LongTakeoff);
             }
             State::LongTakeoff => {
-                let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
+                let err = alvs_tasks::model::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
                 if err.abs() <= p.align_tol_deg || self.frames_in_state > p.takeoff_timeout_frames {
                     // straight on along the new heading, perception live
                     self.enter(State::Wander);
@@ -210,9 +211,9 @@ impl Controller for Lgmd2Controller {
             State::LongTakeoff => 0.0,
             _ => p.cruise_mm_s,
         };
-        let err = alvs_tasks::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
-        let omega = alvs_tasks::fsm::yaw_rate_rad_s(err, &p);
-        let (l, r) = alvs_tasks::fsm::mix(v, omega, &p);
+        let err = alvs_tasks::model::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
+        let omega = alvs_tasks::model::fsm::yaw_rate_rad_s(err, &p);
+        let (l, r) = alvs_tasks::model::fsm::mix(v, omega, &p);
         Command {
             left_mm_s: l,
             right_mm_s: r,

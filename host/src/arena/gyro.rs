@@ -1,5 +1,5 @@
 //! A simulated yaw gyro (the MPU9250 of the 2025 Colias firmware, docs/hardware.md) integrated into
-//! a heading, behind the firmware's own interface `alvs_tasks::fsm::HeadingEstimator`.
+//! a heading, behind the firmware's own interface `alvs_tasks::model::fsm::HeadingEstimator`.
 //!
 //! The physics feeds it the body's true yaw rate every step ([`SimGyro::sense`]); it integrates
 //! `rate · (1 + scale error) + bias + white noise`, with the bias drifting as a random walk.
@@ -9,7 +9,7 @@
 //! not the one that was commanded. The estimate starts at the robot's true initial heading (the
 //! firmware's estimate starts at 0; only heading differences matter to the FSM).
 
-use alvs_tasks::fsm::HeadingEstimator;
+use alvs_tasks::model::fsm::HeadingEstimator;
 
 use super::rng::Rng;
 use super::world::wrap_deg;

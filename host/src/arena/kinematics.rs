@@ -12,7 +12,7 @@
 //! relative).
 //!
 //! The body then moves like a unicycle: forward speed `v = (left + right)/2`, yaw rate
-//! `ω = (left − right)/track` (rad/s, positive = right, as `alvs_tasks::fsm::mix` and
+//! `ω = (left − right)/track` (rad/s, positive = right, as `alvs_tasks::model::fsm::mix` and
 //! `Odometry` assume), integrated with the mid-point heading over each physics step
 //! [`PHYSICS_DT_S`] (exact for a constant-rate arc up to O(dt³)).
 //!

@@ -9,7 +9,7 @@
 //! Each robot draws its noise from streams forked from the seed by its index, so a run is
 //! reproducible and a robot's noise does not depend on how many others there are.
 
-use alvs_tasks::fsm::MotorCommand;
+use alvs_tasks::model::fsm::MotorCommand;
 
 use super::contacts::{resolve_overlaps, ContactCounts, ContactTracker};
 use super::gyro::{GyroParams, SimGyro};

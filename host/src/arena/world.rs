@@ -8,7 +8,7 @@
 //! and `y` grows *downwards* (the rows of a top-down image, and of [`super::topdown`]).
 //! A heading `h` points along `(cos h, sin h)`: 0° = +x (right in the picture), 90° = +y (down
 //! in the picture). In this frame an increasing heading turns **clockwise in the picture, i.e.
-//! to the robot's right**, which is the convention of `alvs_tasks::fsm` and of the model's
+//! to the robot's right**, which is the convention of `alvs_tasks::model::fsm` and of the model's
 //! bearings (positive = right, wrapped to (−180°, 180°]). The robot's right-hand direction is
 //! `(−sin h, cos h)`. No sign flips anywhere: `heading += (left − right)/track · dt`.
 //!

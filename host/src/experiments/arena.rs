@@ -111,7 +111,7 @@ pub struct ArenaConfig {
     /// ALVS model parameters (ALVS and swarm).
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Realistic sensors and motors ([`SensorNoise::typical`], default motor lag and noise,
     /// default gyro); `false` gives ideal ones.
     pub noise: bool,
@@ -129,7 +129,7 @@ impl Default for ArenaConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
-            fsm: alvs_tasks::fsm::FsmParams::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
             noise: true,
             trace: false,
         }

@@ -122,7 +122,7 @@ pub struct Encounter {
     /// ALVS model parameters.
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Wall texture.
     pub texture: WallTexture,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.

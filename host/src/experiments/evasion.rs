@@ -46,7 +46,7 @@ pub struct EvasionConfig {
     /// ALVS model parameters.
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
     pub trace: bool,
     /// Wall texture specification.
@@ -62,7 +62,7 @@ impl Default for EvasionConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
-            fsm: alvs_tasks::fsm::FsmParams::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
             background: "clutter:1".into(),
         }

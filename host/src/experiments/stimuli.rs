@@ -24,7 +24,7 @@
 
 use std::path::{Path, PathBuf};
 
-use alvs_tasks::fsm::Behaviour;
+use alvs_tasks::model::fsm::Behaviour;
 use alvs_tasks::{Frame, Params};
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -142,7 +142,7 @@ pub struct StimuliConfig {
     /// ALVS model parameters.
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -152,7 +152,7 @@ impl Default for StimuliConfig {
         StimuliConfig {
             seed: 1,
             params: Params::default(),
-            fsm: alvs_tasks::fsm::FsmParams::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }

@@ -48,7 +48,7 @@ pub struct SwarmConfig {
     /// ALVS model parameters.
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
 }
@@ -62,7 +62,7 @@ impl Default for SwarmConfig {
             controllers: vec![Kind::Swarm, Kind::Alvs],
             seed: 1,
             params: Params::default(),
-            fsm: alvs_tasks::fsm::FsmParams::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
             background: "clutter:1".into(),
         }
     }

@@ -43,7 +43,7 @@ pub struct TwoThreatConfig {
     /// ALVS model parameters.
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
-    pub fsm: alvs_tasks::fsm::FsmParams,
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
     pub trace: bool,
     /// Wall texture specification.
@@ -59,7 +59,7 @@ impl Default for TwoThreatConfig {
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
-            fsm: alvs_tasks::fsm::FsmParams::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
             background: "clutter:1".into(),
         }

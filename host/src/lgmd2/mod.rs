@@ -60,7 +60,7 @@
 //!    firmware's integer arithmetic is modelled where it truncates: P is a 7-bit signed
 //!    difference (the firmware takes the 16-bit YUV word with Y in its high byte and shifts the
 //!    difference right by 9, i.e. `ΔY >> 1`, clamped to ±127: [`Lgmd2Params::p_shift`] = 1; the
-//!    project's `tasks::camera` notes the same 7 bits); ON/OFF are integers; each kernel
+//!    project's `tasks::robot::camera` notes the same 7 bits); ON/OFF are integers; each kernel
 //!    product is a shift of one neighbour's integer value (`×2`, `>>1`, `>>2` for ON; `×1`,
 //!    `>>2`, `>>3` for OFF), i.e. rounded down before summing; the inhibition is truncated to
 //!    an integer; S is truncated to uint8; Ce is the integer mean `⌊Σ/9⌋`; G is truncated to

@@ -30,8 +30,8 @@
 //! (the line terminator is optional), so every accepted line re-renders byte for byte.
 
 use crate::frame::{HEIGHT, WIDTH};
-use crate::fsm::State;
-use crate::network::MAX_AFS;
+use crate::model::fsm::State;
+use crate::model::network::MAX_AFS;
 use core::fmt::{self, Write};
 
 /// Largest threat centroid in tenths of a pixel: the last column, `WIDTH - 1` = 98.0.
@@ -145,7 +145,11 @@ pub fn quantize_x(x: Option<f32>) -> Option<u16> {
 impl Record {
     /// The record of one frame: the perception task's output, the FSM state the motor task
     /// chose for it, and the cycles the frame took.
-    pub fn from_perception(p: &crate::network::Perception, state: State, cycles: u32) -> Record {
+    pub fn from_perception(
+        p: &crate::model::network::Perception,
+        state: State,
+        cycles: u32,
+    ) -> Record {
         Record {
             frame: p.frame,
             afs: p
@@ -776,8 +780,8 @@ mod tests {
 
     #[test]
     fn a_perception_becomes_a_record_and_a_line() {
-        use crate::network::{AfReport, Perception};
-        use crate::visuomotor::Visuomotor;
+        use crate::model::network::{AfReport, Perception};
+        use crate::model::visuomotor::Visuomotor;
         let mut p = Perception {
             frame: 42,
             ..Perception::default()
@@ -796,7 +800,7 @@ mod tests {
         });
         p.vm = Visuomotor::from_fields(
             p.afs.iter().map(|a| (a.x, a.lplc2)),
-            &crate::params::Params::default(),
+            &crate::model::params::Params::default(),
         );
         let r = Record::from_perception(&p, State::LongTakeoff, 123_456);
         assert_eq!(

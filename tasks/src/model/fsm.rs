@@ -22,7 +22,7 @@
 //! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode; Spin → Wander once
 //! `spin_frames` frames have passed without alert. It never escapes.
 
-use crate::visuomotor::{wrap_deg, Visuomotor};
+use crate::model::visuomotor::{wrap_deg, Visuomotor};
 
 /// Motion state of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -15,7 +15,7 @@
 //! excite (`docs/model.md` explains why rectification is per pixel).
 
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
-use crate::params::Params;
+use crate::model::params::Params;
 
 /// The four cardinal directions of the lobula plate layers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -18,9 +18,9 @@
 //! excited only above the noise floor `q_floor`: without it sensor noise alone opens the gate
 //! now and then (`docs/model.md`).
 
-use crate::dsp;
 use crate::frame::{HEIGHT, WIDTH};
-use crate::hrc::{local_motion, Direction, LmScale, Maps};
+use crate::model::dsp;
+use crate::model::hrc::{local_motion, Direction, LmScale, Maps};
 
 /// The four quadrant sums and the LPLC2 response of one field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -56,7 +56,7 @@ pub struct Gate {
 
 impl Gate {
     /// The gate of the parameters `p`.
-    pub fn of(p: &crate::params::Params) -> Self {
+    pub fn of(p: &crate::model::params::Params) -> Self {
         Gate {
             floor: p.q_floor,
             balance: p.q_balance,
@@ -179,7 +179,7 @@ pub struct Narrow {
 impl Narrow {
     /// The narrow form of `sc`, if it has one.
     pub fn new(sc: &LmScale) -> Option<Narrow> {
-        if sc.s != 1 || sc.n == 0 || sc.n > usize::from(crate::params::MAX_N) {
+        if sc.s != 1 || sc.n == 0 || sc.n > usize::from(crate::model::params::MAX_N) {
             return None;
         }
         if sc.t4_q16 < 0 || sc.t5_q16 < 0 || sc.shift > 63 {
@@ -207,14 +207,14 @@ impl Narrow {
 
 /// Columns of margin around a packed row, so that neighbours `x ± c` (`c ≤ MAX_N`) of any
 /// column index without a bounds test; the margin holds zeros: no neuron outside the retina.
-const PAD: usize = crate::params::MAX_N as usize;
+const PAD: usize = crate::model::params::MAX_N as usize;
 /// A packed row with its margins (and one spare slot for the running windows' last update).
 const PADDED: usize = WIDTH + 2 * PAD + 1;
-/// Column breakpoints of up to [`MAX_AFS`](crate::network::MAX_AFS) fields: each field's
+/// Column breakpoints of up to [`MAX_AFS`](crate::model::network::MAX_AFS) fields: each field's
 /// `x0`, `x̄` and `x̄ + 1` (clamped to the square) and `x1 + 1`.
-const MAX_BP: usize = 4 * crate::network::MAX_AFS;
+const MAX_BP: usize = 4 * crate::model::network::MAX_AFS;
 
-/// Byte lanes 0 and 2 of a [`Cells`](crate::hrc::Cells) word: `[on | on_d << 16]` (`>> 8` first for `off`).
+/// Byte lanes 0 and 2 of a [`Cells`](crate::model::hrc::Cells) word: `[on | on_d << 16]` (`>> 8` first for `off`).
 const LANES: u32 = 0x00FF_00FF;
 
 /// A cell's channels as 16-bit lane pairs, `[on | on_d << 16, off | off_d << 16]` (`UXTB16`,
@@ -314,7 +314,7 @@ struct RowCtx<'a> {
 /// with `S = Σ_c L(q_c)` (Eq. 6). Per channel the own word holds `[a·L(p,t) | a·L(p,t−C_d)]`
 /// and the sum word `[S(t) | S(t−C_d)]`, so `a·T` is one dual multiply-subtract with exchanged
 /// halves (`SMUSDX`), `+ b·T5` a second one (`SMLSDX`), and the scaling and half-wave
-/// rectification `max(0, · >> SH)` one `USAT` ([`dsp`](crate::dsp)). Every product is below
+/// rectification `max(0, · >> SH)` one `USAT` ([`dsp`](crate::model::dsp)). Every product is below
 /// `32640·1020 < 2^25`: no `i32` overflow. `SH = 0` takes the shift from `shift` instead.
 #[inline(always)]
 fn lm<const SH: u32>(own_on: u32, own_off: u32, s_on: u32, s_off: u32, shift: u32) -> u32 {
@@ -481,13 +481,16 @@ fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u
 /// `x̄` to Q2 (l + u) or Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's
 /// own row and column belong to no quadrant. A row's sums stay below `u32::MAX` (`Narrow`).
 pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
-    let count = regions.len().min(out.len()).min(crate::network::MAX_AFS);
+    let count = regions
+        .len()
+        .min(out.len())
+        .min(crate::model::network::MAX_AFS);
     let (regions, out) = (&regions[..count], &mut out[..count]);
     let n = nw.n.clamp(1, PAD);
     // per field: rows (y0, y1 + 1), centroid row, and the breakpoints x0, left end, right
     // start, x1 + 1 (as columns, then as indices into `bp`)
     // (an empty square keeps rows 0..0: never on a row)
-    let mut fields = [(0usize, 0usize, 0usize, [0usize; 4]); crate::network::MAX_AFS];
+    let mut fields = [(0usize, 0usize, 0usize, [0usize; 4]); crate::model::network::MAX_AFS];
     let mut bp = [0usize; MAX_BP];
     let mut nbp = 0;
     for (f, r) in fields.iter_mut().zip(regions) {
@@ -523,7 +526,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
     }
     let fields = &fields[..count];
 
-    let mut q = [[0u64; 4]; crate::network::MAX_AFS];
+    let mut q = [[0u64; 4]; crate::model::network::MAX_AFS];
     let mut row: Row = [[0; 4]; PADDED];
     // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
     // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above
@@ -646,7 +649,7 @@ pub fn integrate_all_general(
         bounds.0 = (bounds.0 .0.min(r.cols.0), bounds.0 .1.max(r.cols.1));
         bounds.1 = (bounds.1 .0.min(r.rows.0), bounds.1 .1.max(r.rows.1));
     }
-    let mut q = [[0u64; 4]; crate::network::MAX_AFS];
+    let mut q = [[0u64; 4]; crate::model::network::MAX_AFS];
     for y in bounds.1 .0..=bounds.1 .1 {
         for x in bounds.0 .0..=bounds.0 .1 {
             // local motion per direction (r, l, d, u), computed on first need
@@ -679,8 +682,8 @@ pub fn integrate_all_general(
 mod tests {
     use super::*;
     use crate::frame::PIXELS;
-    use crate::hrc::cells_of;
-    use crate::params::Params;
+    use crate::model::hrc::cells_of;
+    use crate::model::params::Params;
     use proptest::prelude::*;
 
     #[test]
@@ -765,7 +768,7 @@ mod tests {
         let p = Params::default();
         let sc = LmScale::new(&p);
         // pseudo-random maps with plenty of motion in every direction
-        let maps = crate::hrc::random_maps(12345);
+        let maps = crate::model::hrc::random_maps(12345);
         let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
         let m = Maps::new(&cells);
         let regions = [
@@ -821,7 +824,7 @@ mod tests {
 
     /// Maps from a seed: noise, noise thinned to sparse dots, or smooth low values.
     fn maps_of(seed: u32, kind: u8) -> [[u8; PIXELS]; 4] {
-        let mut maps = crate::hrc::random_maps(seed);
+        let mut maps = crate::model::hrc::random_maps(seed);
         for (k, m) in maps.iter_mut().enumerate() {
             for (i, v) in m.iter_mut().enumerate() {
                 match kind {
@@ -883,7 +886,7 @@ mod tests {
             floor in 0u32..2000,
             balance in 0u8..=100,
             arms in 0u8..=4,
-            regions in prop::collection::vec(region(), 0..=crate::network::MAX_AFS),
+            regions in prop::collection::vec(region(), 0..=crate::model::network::MAX_AFS),
         ) {
             let maps = maps_of(seed, kind);
             let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
@@ -892,7 +895,7 @@ mod tests {
             let p = Params { n, s, gain, w, lm_shift, ..Params::PAPER };
             prop_assert_eq!(p.validate(), Ok(()));
             let sc = LmScale::new(&p);
-            let mut all = [Lplc2::default(); crate::network::MAX_AFS];
+            let mut all = [Lplc2::default(); crate::model::network::MAX_AFS];
             let g = Gate { floor, balance, arms };
             integrate_all(&m, &sc, &regions, &g, &mut all);
             for (r, got) in regions.iter().zip(all.iter()) {

@@ -5,9 +5,9 @@
 //!
 //! The frame enters row by row, as the camera delivers it on the robot.
 
-use crate::control::Control;
 use crate::frame::Frame;
-use crate::network::{Network, Stage};
+use crate::model::network::{Network, Stage};
+use crate::robot::control::Control;
 
 /// Time stamps of a step: the start, then the end of each [`Stage`], then the end of control.
 pub const STAMPS: usize = 6;
@@ -29,7 +29,7 @@ pub struct Report {
     pub lplc2_sum: u32,
     /// Alert (0/1).
     pub alert: u32,
-    /// FSM state after the step ([`crate::fsm::State`] as its index).
+    /// FSM state after the step ([`crate::model::fsm::State`] as its index).
     pub state: u32,
     /// Left and right wheel speeds commanded, as `f32` bits.
     pub wheels: [u32; 2],
@@ -108,7 +108,7 @@ pub fn step(
     }
     let (command, frames) = control.step(&perception.vm, true);
     stamps[5] = clock();
-    let mut h = crate::network::Fnv::new();
+    let mut h = crate::model::network::Fnv::new();
     for f in &frames {
         h.bytes(f);
     }
@@ -130,7 +130,7 @@ pub fn step(
 mod tests {
     use super::*;
     use crate::frame::{PIXELS, WIDTH};
-    use crate::fsm::{Behaviour, FsmParams};
+    use crate::model::fsm::{Behaviour, FsmParams};
 
     #[test]
     fn stamps_bracket_each_stage_and_words_round_trip() {

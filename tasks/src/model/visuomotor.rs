@@ -6,7 +6,7 @@
 //! image (`X̄ > 49`) is at a positive bearing.
 
 use crate::frame::CENTRE_X;
-use crate::params::Params;
+use crate::model::params::Params;
 
 /// What the premotor neurons make of one frame's LPLC2 responses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

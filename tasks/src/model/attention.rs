@@ -18,12 +18,12 @@
 //! Capacity: [`MAX_AFS`]. When full, no new field is created until one retires; with Table I's
 //! `R_AF` the geometry never lets more than 3 x 2 fields coexist, so this does not happen.
 
-use crate::dsp;
 use crate::frame::{HEIGHT, WIDTH};
-use crate::hrc::Maps;
-use crate::network::MAX_AFS;
-use crate::params::{Params, MAX_D};
-use crate::retina::Weights;
+use crate::model::dsp;
+use crate::model::hrc::Maps;
+use crate::model::network::MAX_AFS;
+use crate::model::params::{Params, MAX_D};
+use crate::model::retina::Weights;
 
 /// One attention field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -466,8 +466,8 @@ mod tests {
     }
 
     /// OFF map with blobs of value `v` (model saliency 4·v) at the given pixels.
-    fn cm(on: &[u8; PIXELS], off: &[u8; PIXELS]) -> crate::hrc::Cells {
-        crate::hrc::cells_of([on, off, &[0; PIXELS], &[0; PIXELS]])
+    fn cm(on: &[u8; PIXELS], off: &[u8; PIXELS]) -> crate::model::hrc::Cells {
+        crate::model::hrc::cells_of([on, off, &[0; PIXELS], &[0; PIXELS]])
     }
 
     fn off_map(points: &[(usize, usize, u8)]) -> [u8; PIXELS] {
@@ -592,7 +592,7 @@ mod tests {
         let (p, w) = (p(), w());
         assert_eq!((w.on_q8, w.off_q8), (256, 1024));
         for seed in 0..8 {
-            let maps = crate::hrc::random_maps(seed);
+            let maps = crate::model::hrc::random_maps(seed);
             let mut off = maps[1];
             if seed % 2 == 1 {
                 off.iter_mut().step_by(3).for_each(|v| *v = 0);
@@ -685,7 +685,7 @@ mod tests {
             ) {
                 // half the cases on Table I's weights, which have their own recentre path
                 let (gain, w) = if table_i { (4, 0.25) } else { (gain, w) };
-                let maps = crate::hrc::random_maps(seed);
+                let maps = crate::model::hrc::random_maps(seed);
                 let (mut on, mut off) = (maps[0], maps[1]);
                 for (i, (a, b)) in on.iter_mut().zip(off.iter_mut()).enumerate() {
                     // sparse maps: ties and empty windows; sparse = 3: all equal, 4: all saturated

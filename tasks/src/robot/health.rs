@@ -28,7 +28,7 @@
 //!   stopped, until a whole window passes without overrun.
 //! - The panic flag → [`Fault::Panic`], motors stopped and the watchdog starved, for good.
 
-use crate::camera::Counters;
+use crate::robot::camera::Counters;
 use core::fmt::{self, Write};
 
 /// CPU clock, Hz: HSE 25 MHz through the PLL (M 25, N 360, P 2). From public firmware;

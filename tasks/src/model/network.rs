@@ -12,13 +12,13 @@
 //! ([`Network::push_row`] then [`Network::end_frame`]); both run the same code and give the
 //! same output. Streaming is what lets the firmware keep no frame buffer (docs/firmware.md).
 
-use crate::attention::Fields;
 use crate::frame::{Frame, WIDTH};
-use crate::hrc::{LmScale, Maps};
-use crate::lplc2::{self, Lplc2};
-use crate::params::{ParamError, Params};
-use crate::retina::{delay_q8, Retina, RowError, Weights};
-use crate::visuomotor::Visuomotor;
+use crate::model::attention::Fields;
+use crate::model::hrc::{LmScale, Maps};
+use crate::model::lplc2::{self, Lplc2};
+use crate::model::params::{ParamError, Params};
+use crate::model::retina::{delay_q8, Retina, RowError, Weights};
+use crate::model::visuomotor::Visuomotor;
 
 /// Attention fields the network can hold at once. With Table I's `R_AF` = 36 on a 99x72
 /// retina at most 3 x 2 field centres can lie outside each other's squares, so the
@@ -344,7 +344,7 @@ impl Default for Fnv {
 mod tests {
     use super::*;
     use crate::frame::PIXELS;
-    use crate::retina::delay;
+    use crate::model::retina::delay;
 
     #[test]
     fn the_first_frame_primes_and_never_alerts() {

@@ -21,10 +21,10 @@
 //! ([`delay`]) and then stores the new one. [`on_off_mean`] is the plain whole-frame reference the
 //! tests hold the streaming form to.
 
-use crate::dsp;
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
-use crate::hrc::{Cells, Maps};
-use crate::params::Params;
+use crate::model::dsp;
+use crate::model::hrc::{Cells, Maps};
+use crate::model::params::Params;
 
 /// Rows a streamed frame has; a row index beyond this is refused.
 const ROWS: u8 = HEIGHT as u8;
@@ -474,7 +474,7 @@ impl Weights {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hrc::Layer;
+    use crate::model::hrc::Layer;
 
     #[test]
     fn div9_is_exact_floor_on_its_range() {

@@ -6,9 +6,9 @@
 //! arena. It advances with what the wheels were *allowed* to do: nothing while the safety
 //! policy holds the motors.
 
-use crate::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
-use crate::motor::{MotorFrames, MotorOutput};
-use crate::visuomotor::Visuomotor;
+use crate::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
+use crate::model::visuomotor::Visuomotor;
+use crate::robot::motor::{MotorFrames, MotorOutput};
 
 /// Camera frame period, seconds (30 fps): the period of [`Control::step`].
 pub const FRAME_PERIOD_S: f32 = 1.0 / 30.0;
@@ -78,8 +78,8 @@ impl<H: HeadingEstimator> Control<H> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fsm::State;
-    use crate::motor::{BoardModel, POWER_PER_MM_S};
+    use crate::model::fsm::State;
+    use crate::robot::motor::{BoardModel, POWER_PER_MM_S};
 
     fn quiet() -> Visuomotor {
         Visuomotor::from_fields(core::iter::empty(), &crate::Params::PAPER)

@@ -1,0 +1,24 @@
+//! The paper's model: the aLPLC2 network and the escape behaviour it drives, one module per
+//! neural stage. Equation numbers refer to the paper (see `docs/model.md`):
+//!
+//! | stage | module | paper |
+//! |---|---|---|
+//! | Table I parameters and documented choices | [`params`] | Table I |
+//! | retina, ON/OFF, 3x3 mean | [`retina`] | Eqs. (1)–(2) |
+//! | multi-attention fields | [`attention`] | Eqs. (3)–(5), (10) |
+//! | T4/T5 correlators, local motion | [`hrc`] | Eqs. (6)–(7) |
+//! | quadrants and LPLC2 gate | [`lplc2`] | Eqs. (8)–(9) |
+//! | one perception step | [`network`] | Sec. II-A |
+//! | strength, threat centroid, escape angles | [`visuomotor`] | Eqs. (11)–(15) |
+//! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
+//! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] | — |
+
+pub mod attention;
+pub mod dsp;
+pub mod fsm;
+pub mod hrc;
+pub mod lplc2;
+pub mod network;
+pub mod params;
+pub mod retina;
+pub mod visuomotor;
