@@ -1,0 +1,148 @@
+//! Non-looming motion and disturbances: never an alert.
+
+use super::*;
+
+/// Squares shrinking 18 → 2 px in half size: dark on light and over texture at 1 px/frame,
+/// bright on dark at 2 px/frame, at the left, centre and right.
+#[test]
+fn receding_squares_never_alert() {
+    let (light, dark) = (Canvas::plain(200.0), Canvas::plain(20.0));
+    let tex = Canvas::textured(150.0, 20, 6, 7);
+    let mut scenes = Vec::new();
+    for cx in POSITIONS {
+        let shrink = |rate: f32, grey: f32| Looming {
+            h0: 18.0,
+            rate,
+            ..Looming::square(cx, 36.0, 0.0, grey)
+        };
+        let cases = [
+            ("dark", &light, shrink(-1.0, 40.0), 16),
+            ("textured", &tex, shrink(-1.0, 20.0), 16),
+            ("bright", &dark, shrink(-2.0, 220.0), 8),
+        ];
+        for (what, bg, obj, n) in cases {
+            scenes.push((
+                format!("receding {what} square at x = {cx}"),
+                looming_scene(bg, &[obj], n + 10),
+            ));
+        }
+    }
+    assert_never_alerts(scenes);
+}
+
+/// Full-height bars 4 and 10 px wide crossing the field at 1, 1.5 and 2 px/frame (dark on
+/// light, bright on dark, dark over texture), a bar going right to left, a horizontal bar going
+/// down, and squares of half side 3, 6 and 10 px crossing at the same speeds.
+#[test]
+fn translating_bars_and_squares_never_alert() {
+    let (light, dark) = (Canvas::plain(200.0), Canvas::plain(30.0));
+    let tex = Canvas::textured(150.0, 20, 6, 7);
+    let looks = [
+        ("dark", &light, 40.0),
+        ("bright", &dark, 230.0),
+        ("textured", &tex, 20.0),
+    ];
+    let mut scenes = Vec::new();
+    for (what, bg, grey) in looks {
+        for speed in [1.0, 1.5, 2.0] {
+            for width in [4.0, 10.0] {
+                let name = format!("{what} bar {width} px at {speed} px/frame");
+                scenes.push((name, bar(bg, speed, width, grey, true)));
+            }
+            for h in [3.0, 6.0, 10.0] {
+                let name = format!("{what} square h {h} at {speed} px/frame");
+                scenes.push((name, translating_square(bg, 36.0, h, speed, grey)));
+            }
+        }
+        scenes.push((
+            format!("{what} bar right to left"),
+            bar(bg, -1.5, 6.0, grey, true),
+        ));
+        scenes.push((
+            format!("{what} bar downwards"),
+            bar(bg, 1.5, 6.0, grey, false),
+        ));
+    }
+    assert_never_alerts(scenes);
+}
+
+/// Sine gratings (128 ± 60) of period 12–48 px and square-wave gratings (68 / 188) of period
+/// 12–24 px drifting at 0.5–2 px/frame, stripes vertical and horizontal. Finer and coarser
+/// square waves do alert: see the ignored tests below.
+#[test]
+fn drifting_gratings_never_alert() {
+    let mut scenes = Vec::new();
+    for speed in [0.5, 1.0, 1.5, 2.0] {
+        for vertical in [true, false] {
+            let o = if vertical { "vertical" } else { "horizontal" };
+            for period in [12.0, 16.0, 24.0, 32.0, 48.0] {
+                let name = format!("sine grating {period} px {o} at {speed} px/frame");
+                scenes.push((name, grating(period, speed, 128.0, 60.0, false, vertical)));
+            }
+            for period in [12.0, 16.0, 24.0] {
+                let name = format!("square grating {period} px {o} at {speed} px/frame");
+                scenes.push((name, grating(period, speed, 128.0, 60.0, true, vertical)));
+            }
+        }
+    }
+    assert_never_alerts(scenes);
+}
+
+/// Whole-frame brightness steps of ±20, ±40 and ±60 grey levels (steps of 40–120 levels)
+/// every 1, 2, 3, 5 and 10 frames, on a plain and a textured scene.
+#[test]
+fn global_flicker_never_alerts() {
+    let plain = Canvas::plain(128.0);
+    let tex = Canvas::textured(128.0, 20, 6, 11);
+    let mut scenes = Vec::new();
+    for amp in [20.0, 40.0, 60.0] {
+        for hp in [1, 2, 3, 5, 10] {
+            for (what, bg) in [("plain", &plain), ("textured", &tex)] {
+                let name = format!("{what} flicker ±{amp} every {hp} frames");
+                scenes.push((name, flicker(bg, amp, hp)));
+            }
+        }
+    }
+    assert_never_alerts(scenes);
+}
+
+/// A still scene with ±10 grey levels of uniform noise on every pixel, 120 frames per seed:
+/// plain, textured, and with a dark square and bar standing in it.
+#[test]
+fn sensor_noise_on_a_still_scene_never_alerts() {
+    let mut objects = Canvas::textured(150.0, 20, 6, 3);
+    objects.square(30.0, 30.0, 10.0, 30.0);
+    objects.rect(70.0, 76.0, -0.5, 72.0, 230.0);
+    let backgrounds = [
+        ("plain", Canvas::plain(128.0)),
+        ("textured", Canvas::textured(128.0, 20, 6, 5)),
+        ("objects", objects),
+    ];
+    let mut scenes = Vec::new();
+    for (what, bg) in &backgrounds {
+        let still = vec![bg.frame(); 120];
+        for seed in 0..5 {
+            scenes.push((
+                format!("{what} ±10 noise, seed {seed}"),
+                add_noise(&still, 10, seed),
+            ));
+        }
+    }
+    assert_never_alerts(scenes);
+}
+
+/// Horizontal square-wave gratings of period 28–40 px moving down at 1–2 px/frame. This was a
+/// known limitation (1–3 of 60 frames alerted, `ΣLPLC2` up to 9717: a field rode an edge, its
+/// centroid jumped back to the next edge and for one frame all four arms passed the gate); with
+/// today's defaults none alerts (re-measured when the tests were split by topic).
+#[test]
+fn coarse_square_gratings_do_not_alert() {
+    let mut scenes = Vec::new();
+    for period in [28.0, 32.0, 40.0] {
+        for speed in [1.0, 1.5, 2.0] {
+            let name = format!("square grating {period} px at {speed} px/frame");
+            scenes.push((name, grating(period, speed, 125.0, 65.0, true, false)));
+        }
+    }
+    assert_never_alerts(scenes);
+}
