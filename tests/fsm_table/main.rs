@@ -1,0 +1,22 @@
+//! Behaviour of the escape FSM (paper Sec. II-B, Eqs. 13–15) and its swarm variant (Sec. IV-D):
+//! the transition table, the short-mode override, the γ path and the long takeoff in closed
+//! loop with odometry, the quiet period, the takeoff timeout and robustness to bad input.
+
+use alvs_tasks::model::fsm::{
+    Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
+    State,
+};
+use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
+use alvs_tasks::Params;
+use proptest::prelude::*;
+
+mod fixtures;
+mod gamma;
+mod parameters;
+mod robustness;
+mod suppression;
+mod swarm;
+mod table;
+mod timing;
+
+use fixtures::*;
