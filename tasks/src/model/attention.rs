@@ -237,7 +237,7 @@ impl Fields {
     ///
     /// Same result as [`Fields::recentre_reference`]. The peak is taken on the saliencies
     /// before their `>> 8` (the shift is monotonic: one shift per field, not per pixel); Table
-    /// I's weights take [`Fields::recentre_table_i`]. A row's moments are summed in `u32`
+    /// I's weights take `Fields::recentre_table_i`. A row's moments are summed in `u32`
     /// (`L̂ ≤ (16384 + 4096)·255 / 256 = 20400` with `gain ≤ 16`, `w ≤ 4`, so a row of at
     /// most 99 pixels sums to `Σ L̂ < 2.1·10⁶`), then added to `u64` totals; pixels under the
     /// floor weigh 0 instead of being branched around.

@@ -1,0 +1,210 @@
+//! LPLC2 integration within an attention field: Eqs. (8)–(9).
+//!
+//! The field's square is split by its centroid into four quadrants; each quadrant collects the
+//! two *outward* directions of its dendritic arms (Eq. 8):
+//!
+//! | quadrant | where (image) | collects |
+//! |---|---|---|
+//! | Q1 | upper right (`x > x̄`, `y < ȳ`) | right + up |
+//! | Q2 | upper left (`x < x̄`, `y < ȳ`) | left + up |
+//! | Q3 | lower left (`x < x̄`, `y > ȳ`) | left + down |
+//! | Q4 | lower right (`x > x̄`, `y > ȳ`) | right + down |
+//!
+//! Pixels on the centroid's row or column belong to no quadrant, so a stimulus centred on the
+//! field excites the four quadrants symmetrically.
+//!
+//! Eq. (9): `LPLC2 = bool(∏Q)·ΣQ`, the cell fires only when every arm sees its preferred
+//! (outward) motion (`q_arms` = 4; the authors' firmware opens at 3). A quadrant counts as
+//! excited only above the noise floor `q_floor`: without it sensor noise alone opens the gate
+//! now and then (`docs/model.md`).
+
+use crate::model::hrc::{local_motion, Direction, LmScale, Maps};
+
+mod rows;
+
+pub use rows::{integrate_rows, Narrow};
+
+/// The four quadrant sums and the LPLC2 response of one field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Lplc2 {
+    /// `Q1..Q4` of Eq. (8), saturating.
+    pub quadrants: [u32; 4],
+    /// `LPLC2_k` of Eq. (9).
+    pub response: u32,
+}
+
+impl Lplc2 {
+    /// Eq. (9) on the quadrant sums of Eq. (8), each saturated to `u32`.
+    fn from_sums(q: [u64; 4], g: &Gate) -> Self {
+        let quadrants = q.map(|v| v.min(u64::from(u32::MAX)) as u32);
+        Lplc2 {
+            quadrants,
+            response: gate(quadrants, g),
+        }
+    }
+}
+
+/// When Eq. (9)'s gate opens: how many quadrants must be excited, and what counts as excited.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Gate {
+    /// A quadrant is excited only above this noise floor (`Params::q_floor`).
+    pub floor: u32,
+    /// … and at or above this share of the strongest quadrant, in percent (`Params::q_balance`).
+    pub balance: u8,
+    /// Excited quadrants needed (`Params::q_arms`): 4 is Eq. (9)'s product, 3 the authors'
+    /// firmware.
+    pub arms: u8,
+}
+
+impl Gate {
+    /// The gate of the parameters `p`.
+    pub fn of(p: &crate::model::params::Params) -> Self {
+        Gate {
+            floor: p.q_floor,
+            balance: p.q_balance,
+            arms: p.q_arms,
+        }
+    }
+}
+
+/// The outward directions collected by each quadrant (Eq. 8).
+pub const QUADRANT_DIRECTIONS: [[Direction; 2]; 4] = [
+    [Direction::Right, Direction::Up],
+    [Direction::Left, Direction::Up],
+    [Direction::Left, Direction::Down],
+    [Direction::Right, Direction::Down],
+];
+
+/// Quadrant (0..4) of pixel `(x, y)` around centroid `(cx, cy)`, `None` on the axes.
+#[inline(always)]
+pub fn quadrant_of(x: usize, y: usize, cx: usize, cy: usize) -> Option<usize> {
+    use core::cmp::Ordering::*;
+    match (x.cmp(&cx), y.cmp(&cy)) {
+        (Greater, Less) => Some(0),
+        (Less, Less) => Some(1),
+        (Less, Greater) => Some(2),
+        (Greater, Greater) => Some(3),
+        _ => None,
+    }
+}
+
+/// Eq. (9): the gate and sum over four quadrant values. A quadrant is excited when it exceeds
+/// the absolute floor `g.floor` and `g.balance` % of the strongest quadrant: an arm that sees a
+/// trickle while another sees a flood is not "receiving its preferred motion" (translation and
+/// gratings flood two arms and leak into the other two). The gate opens when at least
+/// `g.arms` quadrants are excited (Eq. 9: all four).
+pub fn gate(quadrants: [u32; 4], g: &Gate) -> u32 {
+    let max = quadrants.iter().copied().max().unwrap_or(0);
+    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
+    let excited = quadrants
+        .iter()
+        .filter(|&&q| q > g.floor && u64::from(q) >= rel)
+        .count();
+    if excited >= usize::from(g.arms) {
+        quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q))
+    } else {
+        0
+    }
+}
+
+/// Eqs. (8)–(9) for the field centred at `(cx, cy)` whose square spans columns `x0..=x1` and
+/// rows `y0..=y1` (already clipped to the retina).
+pub fn integrate(
+    m: &Maps,
+    sc: &LmScale,
+    centre: (usize, usize),
+    cols: (usize, usize),
+    rows: (usize, usize),
+    g: &Gate,
+) -> Lplc2 {
+    let (cx, cy) = centre;
+    let mut q = [0u64; 4];
+    for y in rows.0..=rows.1 {
+        for x in cols.0..=cols.1 {
+            if let Some(k) = quadrant_of(x, y, cx, cy) {
+                let [a, b] = QUADRANT_DIRECTIONS[k];
+                q[k] += u64::from(local_motion(m, sc, x, y, a))
+                    + u64::from(local_motion(m, sc, x, y, b));
+            }
+        }
+    }
+    Lplc2::from_sums(q, g)
+}
+
+/// Where one field integrates: its centroid and its clipped square.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Region {
+    /// Centroid `(x̄, ȳ)`.
+    pub centre: (usize, usize),
+    /// Columns `x0..=x1`.
+    pub cols: (usize, usize),
+    /// Rows `y0..=y1`.
+    pub rows: (usize, usize),
+}
+
+/// Eqs. (8)–(9) for several fields in one pass over the union of their squares. Same result as
+/// [`integrate`] per field (tests hold it to that on random maps, regions and parameters).
+///
+/// With the paper's spacing `s = 1` and a narrow combine ([`Narrow`], true of Table I), it runs
+/// row by row ([`integrate_rows`]): neighbour box sums instead of per-neuron products, each
+/// needed direction's local motion once per pixel, and quadrants summed as row segments.
+/// Otherwise it takes the pixel-by-pixel [`integrate_all_general`].
+pub fn integrate_all(m: &Maps, sc: &LmScale, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
+    match Narrow::new(sc) {
+        Some(nw) => integrate_rows(m, &nw, regions, g, out),
+        None => integrate_all_general(m, sc, regions, g, out),
+    }
+}
+
+/// Eqs. (8)–(9) for several fields in one pass over the union of their squares, pixel by pixel
+/// with [`local_motion`]: each pixel's local motion is computed once per direction however many
+/// fields need it. Same result as [`integrate`] per field. The general path of
+/// [`integrate_all`], taken when the parameters have no [`Narrow`] form.
+pub fn integrate_all_general(
+    m: &Maps,
+    sc: &LmScale,
+    regions: &[Region],
+    g: &Gate,
+    out: &mut [Lplc2],
+) {
+    let n = regions.len().min(out.len());
+    let (regions, out) = (&regions[..n], &mut out[..n]);
+    let Some(first) = regions.first() else {
+        return;
+    };
+    let mut bounds = (first.cols, first.rows);
+    for r in regions {
+        bounds.0 = (bounds.0 .0.min(r.cols.0), bounds.0 .1.max(r.cols.1));
+        bounds.1 = (bounds.1 .0.min(r.rows.0), bounds.1 .1.max(r.rows.1));
+    }
+    let mut q = [[0u64; 4]; crate::model::network::MAX_AFS];
+    for y in bounds.1 .0..=bounds.1 .1 {
+        for x in bounds.0 .0..=bounds.0 .1 {
+            // local motion per direction (r, l, d, u), computed on first need
+            let mut lm: [Option<u32>; 4] = [None; 4];
+            for (k, r) in regions.iter().enumerate() {
+                let inside =
+                    (r.cols.0..=r.cols.1).contains(&x) && (r.rows.0..=r.rows.1).contains(&y);
+                let Some(quad) = inside
+                    .then(|| quadrant_of(x, y, r.centre.0, r.centre.1))
+                    .flatten()
+                else {
+                    continue;
+                };
+                for d in QUADRANT_DIRECTIONS[quad] {
+                    let slot = d as usize;
+                    let v = *lm[slot].get_or_insert_with(|| local_motion(m, sc, x, y, d));
+                    if let Some(acc) = q.get_mut(k) {
+                        acc[quad] += u64::from(v);
+                    }
+                }
+            }
+        }
+    }
+    for (o, qk) in out.iter_mut().zip(q.iter()) {
+        *o = Lplc2::from_sums(*qk, g);
+    }
+}
+
+#[cfg(test)]
+mod tests;

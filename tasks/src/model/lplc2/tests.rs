@@ -1,0 +1,227 @@
+//! Tests of the LPLC2 stage: the quadrants, the gate, and the row kernels held to the
+//! pixel-by-pixel reference.
+
+use super::*;
+use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::model::hrc::cells_of;
+use crate::model::params::Params;
+use proptest::prelude::*;
+
+#[test]
+fn quadrants_follow_the_image_axes() {
+    assert_eq!(quadrant_of(60, 10, 50, 30), Some(0)); // upper right
+    assert_eq!(quadrant_of(40, 10, 50, 30), Some(1)); // upper left
+    assert_eq!(quadrant_of(40, 50, 50, 30), Some(2)); // lower left
+    assert_eq!(quadrant_of(60, 50, 50, 30), Some(3)); // lower right
+    assert_eq!(quadrant_of(50, 10, 50, 30), None);
+    assert_eq!(quadrant_of(60, 30, 50, 30), None);
+}
+
+fn g(floor: u32, balance: u8, arms: u8) -> Gate {
+    Gate {
+        floor,
+        balance,
+        arms,
+    }
+}
+
+#[test]
+fn gate_needs_all_four_arms_above_the_floor() {
+    assert_eq!(gate([10, 20, 30, 40], &g(5, 0, 4)), 100);
+    assert_eq!(gate([10, 20, 0, 40], &g(0, 0, 4)), 0);
+    assert_eq!(gate([10, 20, 5, 40], &g(5, 0, 4)), 0);
+    assert_eq!(gate([u32::MAX, 1, 1, 1], &g(0, 0, 4)), u32::MAX);
+    // balance: every arm at least 25 % of the strongest
+    assert_eq!(gate([10, 20, 30, 40], &g(5, 25, 4)), 100);
+    assert_eq!(gate([9, 20, 30, 40], &g(5, 25, 4)), 0);
+    assert_eq!(Gate::of(&Params::PAPER).arms, 4);
+}
+
+#[test]
+fn gate_with_three_arms_lets_one_quadrant_be_quiet() {
+    // one arm below the floor (the firmware's "3 of 4 expansion edges")
+    assert_eq!(gate([10, 20, 5, 40], &g(5, 0, 3)), 75);
+    // one below the balance
+    assert_eq!(gate([9, 20, 30, 40], &g(5, 25, 3)), 99);
+    // two quiet arms (translation floods two) still close it
+    assert_eq!(gate([0, 20, 0, 40], &g(5, 0, 3)), 0);
+    assert_eq!(gate([0, 20, 0, 40], &g(5, 0, 2)), 60);
+}
+
+/// A dark square's outline one pixel larger now than one frame earlier.
+fn square_outline(half: usize, cx: usize, cy: usize) -> [u8; PIXELS] {
+    let mut m = [0u8; PIXELS];
+    for y in cy - half..=cy + half {
+        for x in cx - half..=cx + half {
+            if y == cy - half || y == cy + half || x == cx - half || x == cx + half {
+                m[y * WIDTH + x] = 60;
+            }
+        }
+    }
+    m
+}
+
+#[test]
+fn an_expanding_outline_excites_all_quadrants_and_a_shrinking_one_none() {
+    let p = Params::default();
+    let sc = LmScale::new(&p);
+    let zero = [0u8; PIXELS];
+    let small = square_outline(8, 50, 36);
+    let large = square_outline(9, 50, 36);
+    let cols = (14, 86);
+    let rows = (0, 71);
+    // OFF channel edges: expanding = small at t−1, large at t
+    let grow = cells_of([&zero, &large, &zero, &small]);
+    let grow = Maps::new(&grow);
+    let l = integrate(&grow, &sc, (50, 36), cols, rows, &g(0, 0, 4));
+    assert!(l.quadrants.iter().all(|&q| q > 0), "{:?}", l.quadrants);
+    assert_eq!(l.quadrants[0], l.quadrants[2], "symmetric stimulus");
+    assert_eq!(l.response, l.quadrants.iter().sum::<u32>());
+    let shrink = cells_of([&zero, &small, &zero, &large]);
+    let shrink = Maps::new(&shrink);
+    let l = integrate(&shrink, &sc, (50, 36), cols, rows, &g(0, 0, 4));
+    assert_eq!(l.quadrants, [0; 4]);
+    assert_eq!(l.response, 0);
+}
+
+#[test]
+fn one_pass_equals_per_field_integration() {
+    let p = Params::default();
+    let sc = LmScale::new(&p);
+    // pseudo-random maps with plenty of motion in every direction
+    let maps = crate::model::hrc::random_maps(12345);
+    let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+    let m = Maps::new(&cells);
+    let regions = [
+        Region {
+            centre: (10, 10),
+            cols: (0, 46),
+            rows: (0, 46),
+        },
+        Region {
+            centre: (60, 40),
+            cols: (24, 96),
+            rows: (4, 71),
+        },
+        Region {
+            centre: (98, 0),
+            cols: (62, 98),
+            rows: (0, 36),
+        },
+    ];
+    let mut all = [Lplc2::default(); 3];
+    integrate_all(&m, &sc, &regions, &g(300, 15, 4), &mut all);
+    for (r, got) in regions.iter().zip(all.iter()) {
+        assert_eq!(
+            *got,
+            integrate(&m, &sc, r.centre, r.cols, r.rows, &g(300, 15, 4)),
+            "{r:?}"
+        );
+    }
+    // the corner field at (98, 0) has no upper or right quadrant; the others see motion
+    assert!(all[..2].iter().all(|l| l.quadrants.iter().all(|&q| q > 0)));
+    assert_eq!(all[2].quadrants[0], 0);
+}
+
+#[test]
+fn the_paper_parameters_take_the_row_kernel() {
+    let sc = LmScale::new(&Params::PAPER);
+    let nw = Narrow::new(&sc).expect("narrow");
+    assert_eq!((nw.a, nw.b, nw.shift, nw.n), (1, 16, 8, 3));
+    // s > 1 and wide factors fall back to the general path
+    let p = Params {
+        s: 2,
+        ..Params::PAPER
+    };
+    assert_eq!(Narrow::new(&LmScale::new(&p)), None);
+    let p = Params {
+        gain: 16,
+        w: 4.0,
+        lm_shift: 0,
+        ..Params::PAPER
+    };
+    assert_eq!(Narrow::new(&LmScale::new(&p)), None);
+}
+
+/// Maps from a seed: noise, noise thinned to sparse dots, or smooth low values.
+fn maps_of(seed: u32, kind: u8) -> [[u8; PIXELS]; 4] {
+    let mut maps = crate::model::hrc::random_maps(seed);
+    for (k, m) in maps.iter_mut().enumerate() {
+        for (i, v) in m.iter_mut().enumerate() {
+            match kind {
+                0 => {}
+                1 => {
+                    if !(i * 7 + k * 13 + seed as usize).is_multiple_of(5) {
+                        *v = 0;
+                    }
+                }
+                _ => *v /= 16,
+            }
+        }
+    }
+    maps
+}
+
+fn region() -> impl Strategy<Value = Region> {
+    (
+        0..WIDTH,
+        0..HEIGHT,
+        1u8..=99,
+        any::<bool>(),
+        0..WIDTH,
+        0..WIDTH,
+        0..HEIGHT,
+        0..HEIGHT,
+    )
+        .prop_map(|(x, y, r, square, xa, xb, ya, yb)| {
+            if square {
+                // a field's clipped square, as the network builds it
+                let r = usize::from(r);
+                Region {
+                    centre: (x, y),
+                    cols: (x.saturating_sub(r), (x + r).min(WIDTH - 1)),
+                    rows: (y.saturating_sub(r), (y + r).min(HEIGHT - 1)),
+                }
+            } else {
+                // any box on the retina, the centre anywhere (even outside it)
+                Region {
+                    centre: (x, y),
+                    cols: (xa.min(xb), xa.max(xb)),
+                    rows: (ya.min(yb), ya.max(yb)),
+                }
+            }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    #[test]
+    fn the_fast_pass_equals_per_field_integration(
+        seed in any::<u32>(),
+        kind in 0u8..3,
+        n in 1u8..=4,
+        s in 1u8..=2,
+        gain in 1u8..=16,
+        w in prop::sample::select(&[0.0f32, 0.25, 0.5, 1.0, 0.3, 2.0, 4.0][..]),
+        lm_shift in 0u8..=24,
+        floor in 0u32..2000,
+        balance in 0u8..=100,
+        arms in 0u8..=4,
+        regions in prop::collection::vec(region(), 0..=crate::model::network::MAX_AFS),
+    ) {
+        let maps = maps_of(seed, kind);
+        let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+        let m = Maps::new(&cells);
+        let s = if u32::from(n) * u32::from(s) > 8 { 1 } else { s };
+        let p = Params { n, s, gain, w, lm_shift, ..Params::PAPER };
+        prop_assert_eq!(p.validate(), Ok(()));
+        let sc = LmScale::new(&p);
+        let mut all = [Lplc2::default(); crate::model::network::MAX_AFS];
+        let g = Gate { floor, balance, arms };
+        integrate_all(&m, &sc, &regions, &g, &mut all);
+        for (r, got) in regions.iter().zip(all.iter()) {
+            let want = integrate(&m, &sc, r.centre, r.cols, r.rows, &g);
+            prop_assert_eq!(*got, want, "{:?} n{} s{} gain{} w{} shift{}", r, n, s, gain, w, lm_shift);
+        }
+    }
+}
