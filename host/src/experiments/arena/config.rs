@@ -1,0 +1,192 @@
+//! What a run is: its configuration, checked and prepared, and the robots' start poses.
+
+use super::*;
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct ArenaConfig {
+    /// Robots in the arena (all running the trial's controller).
+    pub robots: usize,
+    /// Simulated minutes per trial.
+    pub minutes: f64,
+    /// Wall textures, as [`WallTexture::from_spec`] reads them; one trial per background and
+    /// controller.
+    pub backgrounds: Vec<String>,
+    /// Controllers to compare.
+    pub controllers: Vec<Kind>,
+    /// Seed of everything random (start poses, noise, LGMD2's turns).
+    pub seed: u64,
+    /// ALVS model parameters (ALVS and swarm).
+    pub params: Params,
+    /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
+    /// Realistic sensors and motors ([`SensorNoise::typical`], default motor lag and noise,
+    /// default gyro); `false` gives ideal ones.
+    pub noise: bool,
+    /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
+    pub trace: bool,
+}
+
+impl Default for ArenaConfig {
+    /// The paper's setting: 3 robots, 10 minutes, 3 backgrounds, ALVS and LGMD2, seed 1, noise.
+    fn default() -> Self {
+        ArenaConfig {
+            robots: 3,
+            minutes: 10.0,
+            backgrounds: DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect(),
+            controllers: vec![Kind::Alvs, Kind::Lgmd2],
+            seed: 1,
+            params: Params::default(),
+            fsm: alvs_tasks::model::fsm::FsmParams::default(),
+            noise: true,
+            trace: false,
+        }
+    }
+}
+
+impl ArenaConfig {
+    /// Camera frames per trial.
+    pub fn frames(&self) -> u64 {
+        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+    }
+
+    /// Checks the configuration (backgrounds readable, robots placeable, ...); the error is one
+    /// line. [`run`] checks too; this is for failing before anything else starts.
+    pub fn validate(&self) -> Result<()> {
+        self.prepare().map(|_| ())
+    }
+
+    /// Checks the configuration and parses the backgrounds (one error line per problem).
+    pub(super) fn prepare(&self) -> Result<Prepared> {
+        ensure!(self.robots >= 1, "--robots must be at least 1");
+        ensure!(
+            self.minutes.is_finite() && self.minutes > 0.0,
+            "--minutes must be a positive number of minutes, got {}",
+            self.minutes
+        );
+        ensure!(
+            self.minutes <= MAX_MINUTES,
+            "--minutes must be at most {MAX_MINUTES}, got {}",
+            self.minutes
+        );
+        ensure!(!self.backgrounds.is_empty(), "no background to run on");
+        ensure!(!self.controllers.is_empty(), "no controller to run");
+        self.params
+            .validate()
+            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        let mut backgrounds: Vec<(String, WallTexture)> = Vec::new();
+        for spec in &self.backgrounds {
+            if backgrounds.iter().any(|(s, _)| s == spec) {
+                continue;
+            }
+            let name = spec.split_once(':').map_or(spec.as_str(), |(n, _)| n);
+            let known = WallTexture::NAMES.contains(&name);
+            if !known && !Path::new(spec).exists() {
+                bail!(
+                    "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], \
+                     checker[:SIZE_MM], clutter[:SEED], outdoor[:SEED] nor an existing \
+                     PNG/JPEG file"
+                );
+            }
+            let texture =
+                WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))?;
+            backgrounds.push((spec.clone(), texture));
+        }
+        let mut controllers: Vec<Kind> = Vec::new();
+        for &k in &self.controllers {
+            if !controllers.contains(&k) {
+                controllers.push(k);
+            }
+        }
+        if self.trace {
+            // the trace is kept in memory until the run ends (trials run in parallel)
+            let lines = self
+                .frames()
+                .saturating_mul(self.robots as u64)
+                .saturating_mul((backgrounds.len() * controllers.len()) as u64);
+            ensure!(
+                lines <= MAX_TRACE_LINES,
+                "--trace: {lines} lines (≈ {} MB) is more than the {MAX_TRACE_LINES} a run may \
+                 trace; shorten --minutes or trace fewer robots, backgrounds or controllers",
+                lines.saturating_mul(TRACE_LINE_BYTES) / 1_000_000
+            );
+        }
+        let arena = World::default().arena;
+        let starts = start_poses(&arena, self.robots, self.seed)?;
+        let (motor, gyro, noise) = crate::arena::robot_noise(self.noise);
+        let root = Rng::new(self.seed).fork(CONTROLLER_STREAM);
+        let controller_seeds = (0..self.robots as u64)
+            .map(|i| root.fork(i).next_u64())
+            .collect();
+        Ok(Prepared {
+            backgrounds,
+            controllers,
+            starts,
+            controller_seeds,
+            motor,
+            gyro,
+            noise,
+            frames: self.frames(),
+        })
+    }
+}
+
+/// A checked configuration.
+pub(super) struct Prepared {
+    pub(super) backgrounds: Vec<(String, WallTexture)>,
+    pub(super) controllers: Vec<Kind>,
+    pub(super) starts: Vec<Pose>,
+    pub(super) controller_seeds: Vec<u64>,
+    pub(super) motor: MotorParams,
+    pub(super) gyro: GyroParams,
+    pub(super) noise: SensorNoise,
+    pub(super) frames: u64,
+}
+
+/// `robots` start poses in `arena` for `seed`: uniform positions at least
+/// [`START_WALL_CLEARANCE_MM`] from the walls and [`START_SEPARATION_MM`] from each other,
+/// uniform headings. Fails (one line) when that many robots do not fit.
+pub fn start_poses(arena: &Arena, robots: usize, seed: u64) -> Result<Vec<Pose>> {
+    let m = START_WALL_CLEARANCE_MM;
+    let sep = START_SEPARATION_MM;
+    let (w, h) = (arena.size_x_mm - 2.0 * m, arena.size_y_mm - 2.0 * m);
+    let too_many = || {
+        anyhow::anyhow!(
+            "cannot place {robots} robots in the {} x {} mm arena ({sep} mm apart, {m} mm from \
+             the walls); use fewer robots",
+            arena.size_x_mm,
+            arena.size_y_mm
+        )
+    };
+    if w < 0.0 || h < 0.0 {
+        return Err(too_many());
+    }
+    // Discs of diameter `sep` around the centres fit in the free rectangle grown by sep/2; no
+    // packing is denser than the hexagonal one.
+    let disc = std::f64::consts::PI * sep * sep / 4.0;
+    let most = 0.9069 * (w + sep) * (h + sep) / disc;
+    if robots as f64 > most {
+        return Err(too_many());
+    }
+    let root = Rng::new(seed).fork(START_STREAM);
+    for attempt in 0..20 {
+        let mut rng = root.fork(attempt);
+        let mut poses: Vec<Pose> = Vec::with_capacity(robots);
+        'robot: while poses.len() < robots {
+            for _ in 0..2000 {
+                let (x, y) = (m + w * rng.uniform(), m + h * rng.uniform());
+                let heading = rng.range(-180.0, 180.0);
+                let p = Pose::new(x, y, heading);
+                if poses.iter().all(|q| q.distance_to(&p) >= sep) {
+                    poses.push(p);
+                    continue 'robot;
+                }
+            }
+            break;
+        }
+        if poses.len() == robots {
+            return Ok(poses);
+        }
+    }
+    Err(too_many())
+}

@@ -1,0 +1,204 @@
+//! Running the trials (in parallel, each a pure function of the configuration) and the
+//! frame-by-frame trace.
+
+use super::*;
+
+/// Columns of an arena trace: the trial, the robot (index from 0), the frame's
+/// [`encounter::FRAME_HEADER`] columns, and the centre's distance to the nearest wall and to
+/// the nearest other robot (empty with one robot), mm.
+pub fn trace_header() -> String {
+    format!(
+        "controller,background,robot,{},wall_mm,nearest_robot_mm",
+        encounter::FRAME_HEADER
+    )
+}
+
+/// `s` as one CSV field: quoted (inner quotes doubled) if it holds a comma, quote or newline.
+pub(super) fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Total camera frames (per robot) a run of `config` simulates, for a progress bar; 0 if the
+/// configuration is invalid.
+pub fn total_frames(config: &ArenaConfig) -> u64 {
+    let mut bgs = config.backgrounds.clone();
+    bgs.sort();
+    bgs.dedup();
+    let mut ks: Vec<&str> = config.controllers.iter().map(|k| k.name()).collect();
+    ks.sort();
+    ks.dedup();
+    config
+        .frames()
+        .saturating_mul((bgs.len() * ks.len()) as u64)
+}
+
+/// Runs every trial of `config` on `jobs` threads (0 = [`default_jobs`]). `progress` is told
+/// of simulated camera frames as they complete (from any thread).
+pub fn run(
+    config: &ArenaConfig,
+    jobs: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ArenaReport> {
+    let prep = config.prepare()?;
+    let t0 = Instant::now();
+    let plan: Vec<(Kind, usize)> = prep
+        .controllers
+        .iter()
+        .flat_map(|&k| (0..prep.backgrounds.len()).map(move |b| (k, b)))
+        .collect();
+    let jobs = if jobs == 0 { default_jobs() } else { jobs }.clamp(1, plan.len());
+    let trials: Vec<Trial> = crate::experiments::parallel::map(plan.len(), jobs, |i| {
+        let (kind, b) = plan[i];
+        run_trial(config, &prep, kind, b, progress)
+    });
+    let summaries = prep
+        .controllers
+        .iter()
+        .map(|k| {
+            let mine: Vec<&Trial> = trials.iter().filter(|t| t.controller == k.name()).collect();
+            summarise(k.name(), &mine)
+        })
+        .collect();
+    Ok(ArenaReport {
+        config: config.clone(),
+        trials,
+        summaries,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+        jobs,
+    })
+}
+
+pub(super) fn round1(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+pub(super) fn run_trial(
+    config: &ArenaConfig,
+    prep: &Prepared,
+    kind: Kind,
+    background: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Trial {
+    let t0 = Instant::now();
+    let (spec, texture) = &prep.backgrounds[background];
+    let world = World::with_texture(texture.clone());
+    let mut sim = Sim::new(&world, config.seed);
+    for (pose, &seed) in prep.starts.iter().zip(&prep.controller_seeds) {
+        sim.add(
+            *pose,
+            kind.make(config.params, config.fsm, seed),
+            prep.motor,
+            prep.gyro,
+            prep.noise,
+        );
+    }
+    let arena = world.arena;
+    let mut last: Vec<(f64, f64)> = prep.starts.iter().map(|p| (p.x_mm, p.y_mm)).collect();
+    let (mut contact_frames, mut distance_mm) = (0u64, 0.0f64);
+    let mut reported = 0;
+    let mut trace = Vec::new();
+    for f in 1..=prep.frames {
+        sim.step();
+        if config.trace {
+            trace_frame(&sim, &arena, f - 1, &mut trace);
+        }
+        for (p, q) in sim.physics.poses().iter().zip(last.iter_mut()) {
+            if arena.wall_distance(p.x_mm, p.y_mm) < ROBOT_RADIUS_MM + WALL_CONTACT_SLACK_MM {
+                contact_frames += 1;
+            }
+            distance_mm += (p.x_mm - q.0).hypot(p.y_mm - q.1);
+            *q = (p.x_mm, p.y_mm);
+        }
+        if f % PROGRESS_EVERY == 0 {
+            progress(f - reported);
+            reported = f;
+        }
+    }
+    progress(prep.frames - reported);
+
+    let minutes = prep.frames as f64 * FRAME_DT_S / 60.0;
+    let counts = sim.physics.counts();
+    let total = counts.total();
+    let mut state_frames: BTreeMap<String, u64> = BTreeMap::new();
+    for robot in sim.state_frames() {
+        for (state, n) in robot {
+            *state_frames.entry((*state).to_string()).or_insert(0) += n;
+        }
+    }
+    let robot_frames: u64 = state_frames.values().sum();
+    let state_fraction = state_frames
+        .iter()
+        .map(|(s, &n)| (s.clone(), n as f64 / robot_frames.max(1) as f64))
+        .collect();
+    let collision_events = sim
+        .physics
+        .contacts()
+        .events()
+        .iter()
+        .filter(|e| e.kind == EventKind::Collision)
+        .map(|e| CollisionMark {
+            time_s: e.time_s,
+            robot: e.robot,
+            other_robot: match e.other {
+                Other::Robot(j) => Some(j),
+                Other::Wall => None,
+            },
+            x_mm: round1(e.x_mm),
+            y_mm: round1(e.y_mm),
+        })
+        .collect();
+    let trails = sim
+        .trails()
+        .iter()
+        .map(|t| t.iter().map(|&(x, y)| [round1(x), round1(y)]).collect())
+        .collect();
+    Trial {
+        controller: kind.name(),
+        background: spec.clone(),
+        seed: config.seed,
+        robots: prep.starts.len(),
+        frames: prep.frames,
+        minutes,
+        success_rate: total.success_rate(),
+        encounters: total.encounters,
+        collisions: total.collisions,
+        collided_encounters: total.collided_encounters,
+        collisions_per_minute: total.collisions as f64 / minutes,
+        robot_robot: TallyStats::new(&counts.robot_robot, minutes),
+        robot_wall: TallyStats::new(&counts.robot_wall, minutes),
+        wall_touches: counts.wall_touches,
+        wall_contact_fraction: contact_frames as f64 / robot_frames.max(1) as f64,
+        mean_speed_mm_s: distance_mm / (robot_frames.max(1) as f64 * FRAME_DT_S),
+        state_fraction,
+        state_frames,
+        wall_clock_s: t0.elapsed().as_secs_f64(),
+        start_poses: prep.starts.iter().map(|&p| p.into()).collect(),
+        end_poses: sim.physics.poses().iter().map(|&p| p.into()).collect(),
+        collision_events,
+        trails,
+        trace,
+    }
+}
+
+/// Appends the trace lines of camera frame `frame` (just simulated), one per robot.
+pub(super) fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<String>) {
+    let poses = sim.physics.poses();
+    for (i, (p, cmd)) in poses.iter().zip(sim.commands()).enumerate() {
+        let nearest = poses
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, q)| p.distance_to(q))
+            .reduce(f64::min)
+            .map_or(String::new(), |d| format!("{d:.1}"));
+        out.push(format!(
+            "{i},{},{:.1},{nearest}",
+            encounter::frame_csv(frame, p, cmd.state, cmd.alert, &cmd.seen),
+            arena.wall_distance(p.x_mm, p.y_mm),
+        ));
+    }
+}
