@@ -28,7 +28,7 @@ static ENTRIES: (
     unsafe extern "C" fn(*mut Network, *mut Control, *const Frame, *mut Report),
 ) = (alvs_bench_init, alvs_bench_step);
 
-/// Writes a fresh paper network and an escape controller into the given memory.
+/// Writes a fresh default network and an escape controller into the given memory.
 ///
 /// # Safety
 /// `network` and `control` must be valid for writes of `ALVS_BENCH_SIZES[0]` and `[1]` bytes,
@@ -38,7 +38,7 @@ pub unsafe extern "C" fn alvs_bench_init(network: *mut Network, control: *mut Co
     if network.is_null() || control.is_null() {
         return;
     }
-    network.write(Network::paper());
+    network.write(Network::alvs());
     control.write(Control::new(FsmParams::default(), Behaviour::Escape));
 }
 

@@ -99,7 +99,7 @@ mod app {
         last_fault: Option<Fault>,
     }
 
-    #[init(local = [network: Network = Network::paper()])]
+    #[init(local = [network: Network = Network::alvs()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         // RTT first (it needs no clock set-up), so that a panic or a hang in the clock
         // configuration below is visible on the probe. Channel 0 "log" (text, the print channel
@@ -158,10 +158,12 @@ mod app {
             network
         });
         rprintln!(
-            "running: model Table I (T_a {}, T_d {}, T_s {}), {} B of model state, motors off until {} frames primed it",
-            alvs_tasks::Params::PAPER.t_a,
-            alvs_tasks::Params::PAPER.t_d,
-            alvs_tasks::Params::PAPER.t_s,
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, {} B of model state, motors off until {} frames primed it",
+            alvs_tasks::Params::ALVS.t_a,
+            alvs_tasks::Params::ALVS.t_d,
+            alvs_tasks::Params::ALVS.t_s,
+            alvs_tasks::Params::ALVS.warmup,
+            alvs_tasks::Params::ALVS.flicker_pct,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES
         );

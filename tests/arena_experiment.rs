@@ -305,10 +305,11 @@ fn start_poses_keep_their_distances() {
 fn json_has_the_documented_keys() {
     let v = short_run().json();
     let top: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(top.len(), 3, "{top:?}");
-    for key in ["alvs", "lgmd2", "trials"] {
+    assert_eq!(top.len(), 4, "{top:?}");
+    for key in ["alvs", "lgmd2", "trials", "model"] {
         assert!(top.contains(&key), "{top:?}");
     }
+    assert_eq!(v["model"], "alvs", "the default perception preset");
     for c in ["alvs", "lgmd2"] {
         let s = &v[c];
         for key in [

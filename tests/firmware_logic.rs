@@ -68,7 +68,7 @@ impl Robot {
         Robot {
             now: 0,
             capture: Capture::new(),
-            network: Network::paper(),
+            network: Network::alvs(),
             parked: true,
             reset_requested: false,
             control: Control::new(FsmParams::default(), Behaviour::Escape),

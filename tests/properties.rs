@@ -206,11 +206,14 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
         1u8..=4,
     );
-    let random = (first, second, third).prop_map(
+    // warm-up frames, whole-field luminance events
+    let fourth = (prop_oneof![3 => 0u8..=8, 1 => any::<u8>()], 0u8..=100);
+    let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
+            (warmup, flicker_pct),
         )| Params {
             w,
             n,
@@ -230,9 +233,11 @@ fn valid_params() -> impl Strategy<Value = Params> {
             q_floor,
             q_balance,
             q_arms,
+            warmup,
+            flicker_pct,
         },
     );
-    prop_oneof![1 => Just(Params::default()), 3 => random]
+    prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -503,6 +508,7 @@ fn bad_value() -> impl Strategy<Value = Bad> {
         bad_u8(1, MAX_REACH).prop_map(|v| Bad::U8("s", v)),
         bad_u8(1, 16).prop_map(|v| Bad::U8("gain", v)),
         bad_u8(0, 24).prop_map(|v| Bad::U8("lm_shift", v)),
+        bad_u8(0, 100).prop_map(|v| Bad::U8("flicker_pct", v)),
         (2u8..=MAX_N)
             .prop_flat_map(|n| (Just(n), (MAX_REACH / n + 1)..=MAX_REACH))
             .prop_map(|(n, s)| Bad::Reach(n, s)),
@@ -532,6 +538,7 @@ impl Bad {
                     "d" => p.d = v,
                     "s" => p.s = v,
                     "gain" => p.gain = v,
+                    "flicker_pct" => p.flicker_pct = v,
                     _ => p.lm_shift = v,
                 }
                 name
@@ -680,6 +687,8 @@ fn params_set_accepts_only_valid_text() {
             ("lm_shift", 0, 24),
             ("q_balance", 0, 100),
             ("q_arms", 1, 4),
+            ("warmup", 0, 255),
+            ("flicker_pct", 0, 100),
         ] {
             let r = p.set(name, &format!(" {v} "));
             assert_eq!(r.is_ok(), (lo..=hi).contains(&v), "{name} = {v}: {r:?}");
@@ -689,11 +698,17 @@ fn params_set_accepts_only_valid_text() {
         (p.r_af, p.c_frac, p.d, p.lm_shift, p.q_balance, p.q_arms),
         (99, 100, MAX_D, 24, 100, 4)
     );
+    assert_eq!((p.warmup, p.flicker_pct), (255, 100));
     // each name sets its own field
     let mut q = Params::default();
     q.set("q_arms", "3").unwrap();
     q.set("q_balance", "40").unwrap();
-    assert_eq!((q.q_arms, q.q_balance), (3, 40));
+    q.set("warmup", "7").unwrap();
+    q.set("flicker_pct", "60").unwrap();
+    assert_eq!(
+        (q.q_arms, q.q_balance, q.warmup, q.flicker_pct),
+        (3, 40, 7, 60)
+    );
     for t in [0u32, 1, 7000, u32::MAX] {
         assert_eq!(p.set("t_s", &t.to_string()), Ok(()));
         assert_eq!(p.t_s, t);

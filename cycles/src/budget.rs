@@ -251,10 +251,10 @@ impl Default for HostTwin {
 }
 
 impl HostTwin {
-    /// A fresh paper network and escape controller, as `alvs_bench_init`.
+    /// A fresh default network and escape controller, as `alvs_bench_init`.
     pub fn new() -> Self {
         HostTwin {
-            network: Box::new(Network::paper()),
+            network: Box::new(Network::alvs()),
             control: Control::new(FsmParams::default(), Behaviour::Escape),
         }
     }

@@ -99,6 +99,11 @@ struct CommonArgs {
     /// Write the results as JSON.
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
+    /// The perception model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
+    /// on top.
+    #[arg(long, value_enum, default_value_t = Model::Alvs)]
+    model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
@@ -264,8 +269,14 @@ struct ArenaArgs {
     /// robot and frame, 28 MB for the default run.
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
+    /// The perception model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
+    /// on top.
+    #[arg(long, value_enum, default_value_t = Model::Alvs)]
+    model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms.
+    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
+    /// warmup flicker_pct.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
@@ -278,8 +289,14 @@ struct ArenaArgs {
 
 #[derive(clap::Args)]
 struct ModelArgs {
+    /// The perception model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
+    /// on top.
+    #[arg(long, value_enum, default_value_t = Model::Alvs)]
+    model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms.
+    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
+    /// warmup flicker_pct.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
@@ -291,6 +308,24 @@ struct ModelArgs {
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).
     #[arg(long, value_enum, default_value_t = Mode::Escape)]
     mode: Mode,
+}
+
+/// A parameter preset of the perception model (`Params::preset`).
+#[derive(Clone, Copy, ValueEnum)]
+enum Model {
+    /// The paper's model plus the closed-loop mechanisms (`Params::ALVS`), the firmware's.
+    Alvs,
+    /// The paper's model exactly (`Params::PAPER`).
+    Paper,
+}
+
+impl Model {
+    fn params(self) -> Params {
+        match self {
+            Model::Alvs => Params::ALVS,
+            Model::Paper => Params::PAPER,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -344,9 +379,9 @@ fn apply_overrides<E: std::fmt::Display>(
     Ok(())
 }
 
-/// The model parameters with `--param NAME=VALUE` overrides applied.
-fn parse_params(overrides: &[String]) -> Result<Params> {
-    let mut p = Params::default();
+/// The model parameters of `model` with `--param NAME=VALUE` overrides applied.
+fn parse_params(model: Model, overrides: &[String]) -> Result<Params> {
+    let mut p = model.params();
     apply_overrides("param", overrides, |k, v| p.set(k, v))?;
     Ok(p)
 }
@@ -360,7 +395,7 @@ fn parse_fsm(overrides: &[String]) -> Result<FsmParams> {
 
 impl ModelArgs {
     fn params(&self) -> Result<Params> {
-        parse_params(&self.params)
+        parse_params(self.model, &self.params)
     }
 
     fn fsm(&self) -> Result<FsmParams> {
@@ -578,7 +613,7 @@ fn report(
 fn run_stimuli(a: StimuliArgs) -> Result<()> {
     let config = stimuli::StimuliConfig {
         seed: a.common.seed,
-        params: parse_params(&a.common.params)?,
+        params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
     };
@@ -594,7 +629,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         speed_mm_s: a.speed,
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
-        params: parse_params(&a.common.params)?,
+        params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
         trace: a.trace.is_some(),
@@ -620,7 +655,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         slow_mm_s: a.slow,
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
-        params: parse_params(&a.common.params)?,
+        params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
         trace: a.trace.is_some(),
@@ -644,7 +679,7 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         minutes: a.minutes,
         controllers: kinds(&a.controllers, &[Kind::Swarm, Kind::Alvs]),
         seed: a.common.seed,
-        params: parse_params(&a.common.params)?,
+        params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
     };
@@ -672,7 +707,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
             a.controllers.iter().map(|c| c.kind()).collect()
         },
         seed: a.seed,
-        params: parse_params(&a.params)?,
+        params: parse_params(a.model, &a.params)?,
         fsm: parse_fsm(&a.fsm)?,
         trace: a.trace.is_some(),
         ..ArenaConfig::default()

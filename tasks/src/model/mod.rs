@@ -12,12 +12,14 @@
 //! | strength, threat centroid, escape angles | [`visuomotor`] | Eqs. (11)–(15) |
 //! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
 //! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] | — |
+//! | whole-field luminance events (a closed-loop mechanism, not in the paper) | [`luminance`] | — |
 
 pub mod attention;
 pub mod dsp;
 pub mod fsm;
 pub mod hrc;
 pub mod lplc2;
+pub mod luminance;
 pub mod network;
 pub mod params;
 pub mod retina;

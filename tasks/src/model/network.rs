@@ -16,6 +16,7 @@ use crate::frame::{Frame, WIDTH};
 use crate::model::attention::Fields;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
+use crate::model::luminance;
 use crate::model::params::{ParamError, Params};
 use crate::model::retina::{delay_q8, Retina, RowError, Weights};
 use crate::model::visuomotor::Visuomotor;
@@ -104,15 +105,26 @@ impl Network {
         })
     }
 
-    /// The network with the paper's parameters ([`Params::PAPER`]), as a constant: the
-    /// firmware places it in a `static` without building 35 KB on the stack first.
+    /// The network with the paper's parameters ([`Params::PAPER`]), as a constant.
     pub const fn paper() -> Self {
         const P: Params = Params::PAPER;
+        Self::with_valid(P)
+    }
+
+    /// The network with the default parameters ([`Params::ALVS`]), as a constant: the
+    /// firmware places it in a `static` without building 35 KB on the stack first.
+    pub const fn alvs() -> Self {
+        const P: Params = Params::ALVS;
+        Self::with_valid(P)
+    }
+
+    /// A network with parameters known to validate (the presets; a test holds them to it).
+    const fn with_valid(p: Params) -> Self {
         Network {
-            params: P,
-            weights: Weights::new(&P),
-            scale: LmScale::new(&P),
-            retina: Retina::new(delay_q8(&P)),
+            params: p,
+            weights: Weights::new(&p),
+            scale: LmScale::new(&p),
+            retina: Retina::new(delay_q8(&p)),
             frames: 0,
             fields: Fields::new(),
         }
@@ -253,6 +265,13 @@ impl Network {
             &mut lplc,
         );
         mark(Stage::Motion);
+        // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
+        // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.
+        if index < u32::from(p.warmup) || luminance::is_event(maps.cells, p.flicker_pct) {
+            for l in lplc.iter_mut() {
+                l.response = 0;
+            }
+        }
         // (id, result) of every field alive during this frame, before Eq. (10) retires some
         let results: heapless::Vec<(u32, Lplc2), MAX_AFS> = self
             .fields

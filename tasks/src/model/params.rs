@@ -10,7 +10,8 @@ pub const MAX_D: u8 = 16;
 
 /// The parameters of the aLPLC2 network and visuomotor pathway.
 ///
-/// `Params::default()` is the paper's Table I plus the choices documented in `docs/model.md`.
+/// [`Params::PAPER`] is the paper's Table I plus the choices documented in `docs/model.md`;
+/// `Params::default()` is [`Params::ALVS`], that plus the closed-loop mechanisms.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Params {
     /// `w`: weight of the ON channel, Eq. (1). Table I: 0.25.
@@ -59,6 +60,17 @@ pub struct Params {
     /// Excited quadrants needed to open the gate, Eq. (9). The paper's product `∏Q` needs all
     /// 4; the authors' firmware opens at 3 of 4 ("expansion edges"); see `docs/model.md`.
     pub q_arms: u8,
+    /// Frames after a start or restart (a torn or dropped frame) during which no field is
+    /// reported stimulated: the delay line of Eq. (6) and the `d`-frame history of Eq. (10)
+    /// are still filling, so early responses compare a frame with an empty past. Not in the
+    /// paper (0 there); see `docs/model.md`, "Closed-loop mechanisms".
+    pub warmup: u8,
+    /// Whole-field luminance events: when at least this percent of the retina brightens (or
+    /// darkens) in one frame while next to nothing changes the other way, the change
+    /// is the light or the sensor's automatic exposure, not motion, and no field is reported
+    /// stimulated in that frame. 0 turns it off (the paper). See `docs/model.md`,
+    /// "Closed-loop mechanisms".
+    pub flicker_pct: u8,
 }
 
 impl Params {
@@ -82,10 +94,41 @@ impl Params {
         q_floor: 250,
         q_balance: 15,
         q_arms: 4,
+        warmup: 0,
+        flicker_pct: 0,
     };
 
+    /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
+    /// closed loop needs that the paper leaves out, each a parameter with its measured effect
+    /// in `docs/experiments.md`. The firmware runs these.
+    pub const ALVS: Params = Params {
+        warmup: 4,
+        flicker_pct: 50,
+        ..Params::PAPER
+    };
+
+    /// The preset these parameters are, `"paper"` or `"alvs"`, or `"custom"`.
+    pub fn preset_name(&self) -> &'static str {
+        if *self == Params::ALVS {
+            "alvs"
+        } else if *self == Params::PAPER {
+            "paper"
+        } else {
+            "custom"
+        }
+    }
+
+    /// A preset by name: `paper` ([`Params::PAPER`]) or `alvs` ([`Params::ALVS`]).
+    pub fn preset(name: &str) -> Option<Params> {
+        match name {
+            "paper" => Some(Params::PAPER),
+            "alvs" => Some(Params::ALVS),
+            _ => None,
+        }
+    }
+
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 18] = [
+    pub const NAMES: [&'static str; 20] = [
         "w",
         "n",
         "r_af",
@@ -104,12 +147,14 @@ impl Params {
         "q_floor",
         "q_balance",
         "q_arms",
+        "warmup",
+        "flicker_pct",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 18] = [
+    pub const RANGES: [Range; 20] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -128,6 +173,8 @@ impl Params {
         Range::Int(0, u32::MAX as i64),
         Range::Int(0, 100),
         Range::Int(1, 4),
+        Range::Int(0, 255),
+        Range::Int(0, 100),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -148,6 +195,8 @@ impl Params {
         check_int("q_floor", self.q_floor.into())?;
         check_int("q_balance", self.q_balance.into())?;
         check_int("q_arms", self.q_arms.into())?;
+        check_int("warmup", self.warmup.into())?;
+        check_int("flicker_pct", self.flicker_pct.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -192,8 +241,10 @@ impl Params {
             "c_frac" => p.c_frac = int(name, v)?,
             "q_floor" => p.q_floor = int(name, v)?,
             "q_balance" => p.q_balance = int(name, v)?,
+            "q_arms" => p.q_arms = int(name, v)?,
+            "warmup" => p.warmup = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.q_arms = int(name, v)?,
+            _ => p.flicker_pct = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -202,8 +253,9 @@ impl Params {
 }
 
 impl Default for Params {
+    /// [`Params::ALVS`].
     fn default() -> Self {
-        Params::PAPER
+        Params::ALVS
     }
 }
 
@@ -348,6 +400,33 @@ mod tests {
         assert_eq!((p.w, p.n, p.r_af, p.t_a, p.t_d), (0.25, 3, 36, 100, 5000));
         assert_eq!((p.d, p.w_s, p.alpha, p.t_s), (4, 4000.0, 0.707, 7000));
         assert_eq!(p.validate(), Ok(()));
+    }
+
+    #[test]
+    fn the_default_is_the_paper_plus_the_closed_loop_mechanisms_only() {
+        let (paper, alvs) = (Params::PAPER, Params::ALVS);
+        assert_eq!(
+            (paper.warmup, paper.flicker_pct),
+            (0, 0),
+            "the paper has neither"
+        );
+        assert_eq!((alvs.warmup, alvs.flicker_pct), (4, 50));
+        // everything else is the paper's
+        assert_eq!(
+            Params {
+                warmup: 0,
+                flicker_pct: 0,
+                ..alvs
+            },
+            paper
+        );
+        assert_eq!(Params::default(), alvs);
+        assert_eq!(alvs.validate(), Ok(()));
+        assert_eq!(Params::preset("paper"), Some(paper));
+        assert_eq!(Params::preset("alvs"), Some(alvs));
+        assert_eq!(Params::preset("ALVS"), None);
+        assert_eq!((paper.preset_name(), alvs.preset_name()), ("paper", "alvs"));
+        assert_eq!(Params { t_a: 99, ..alvs }.preset_name(), "custom");
     }
 
     #[test]

@@ -134,7 +134,7 @@ mod tests {
 
     #[test]
     fn stamps_bracket_each_stage_and_words_round_trip() {
-        let mut n = Network::paper();
+        let mut n = Network::alvs();
         let mut c = Control::new(FsmParams::default(), Behaviour::Escape);
         let mut t = 0u32;
         let mut clock = || {
@@ -175,12 +175,16 @@ mod tests {
     }
 
     #[test]
-    fn the_constant_paper_network_is_the_validated_one() {
-        let a = Network::paper();
-        let b = Network::new(crate::Params::PAPER).unwrap();
-        assert_eq!(a.params(), b.params());
-        assert_eq!(a.weights(), b.weights());
-        assert_eq!(a.lm_scale(), b.lm_scale());
-        assert_eq!(a.digest(), b.digest());
+    fn the_constant_networks_are_the_validated_ones() {
+        for (a, p) in [
+            (Network::paper(), crate::Params::PAPER),
+            (Network::alvs(), crate::Params::ALVS),
+        ] {
+            let b = Network::new(p).unwrap();
+            assert_eq!(a.params(), b.params());
+            assert_eq!(a.weights(), b.weights());
+            assert_eq!(a.lm_scale(), b.lm_scale());
+            assert_eq!(a.digest(), b.digest());
+        }
     }
 }
