@@ -182,7 +182,9 @@ fn whole_field_luminance_changes_never_alert() {
     let scale = |f: &Frame, g: f32| -> Frame {
         std::array::from_fn(|i| (f32::from(f[i]) * g).round().clamp(0.0, 255.0) as u8)
     };
-    let patterns: [(&str, fn(usize) -> f32); 5] = [
+    /// A gain per frame.
+    type Gain = fn(usize) -> f32;
+    let patterns: [(&str, Gain); 5] = [
         ("step +30 %", |t| if t < 10 { 1.0 } else { 1.3 }),
         ("strobe 20 %", |t| if t % 2 == 0 { 1.0 } else { 0.8 }),
         ("strobe 10 %", |t| if t % 2 == 0 { 1.0 } else { 0.9 }),
