@@ -48,6 +48,9 @@ pub enum Error {
     Exception { number: u32, pc: u32, insn: String },
     /// An undecodable instruction.
     InvalidInstruction { pc: u32 },
+    /// The virtual board cannot go on: a fault while HardFault runs (the core locks up), an
+    /// exception stack frame that cannot be written, an exception return with nothing active.
+    Lockup { pc: u32, reason: String },
     /// Anything else unicorn reported.
     Emulator(String),
 }
@@ -92,6 +95,7 @@ impl fmt::Display for Error {
                 write!(f, "CPU exception {number} at pc {pc:#010x} ({insn})")
             }
             Error::InvalidInstruction { pc } => write!(f, "invalid instruction at pc {pc:#010x}"),
+            Error::Lockup { pc, reason } => write!(f, "core lockup at pc {pc:#010x}: {reason}"),
             Error::Emulator(m) => write!(f, "emulator: {m}"),
         }
     }

@@ -24,6 +24,7 @@ mod error;
 mod machine;
 pub mod memory;
 pub mod ram;
+pub mod system;
 pub mod timing;
 
 pub use error::{Access, Error};

@@ -330,6 +330,19 @@ impl Timing {
         self.it = None;
     }
 
+    /// The next instruction is reached by a jump the code did not make (exception entry or
+    /// return, reset): counted as a taken branch to its address, outside any IT block.
+    pub fn redirect(&mut self) {
+        self.prev = None;
+        self.it = None;
+    }
+
+    /// Whether the next instruction may be inside an IT block (an interrupt must not be taken
+    /// there: the virtual board's exception entry does not stack the IT state).
+    pub fn in_it_block(&self) -> bool {
+        self.it.is_some()
+    }
+
     /// The PC of the instruction being executed (the last one reported).
     pub fn pc(&self) -> u32 {
         self.prev.map_or(0, |p| p.pc)

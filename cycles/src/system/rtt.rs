@@ -1,0 +1,136 @@
+//! The host side of RTT, as a debug probe does it: find the SEGGER control block
+//! (`_SEGGER_RTT`: the id "SEGGER RTT", the channel counts, then 24-byte channel descriptors
+//! name, buffer, size, write, read, flags) and move each up channel's new bytes out by
+//! advancing its read offset.
+
+/// Memory access the reader needs.
+pub trait Memory {
+    fn read(&self, addr: u32, len: usize) -> Option<Vec<u8>>;
+    fn write_u32(&mut self, addr: u32, value: u32) -> bool;
+
+    fn read_u32(&self, addr: u32) -> Option<u32> {
+        let b = self.read(addr, 4)?;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+}
+
+const ID: &[u8] = b"SEGGER RTT";
+const HEADER: u32 = 24;
+const CHANNEL: u32 = 24;
+
+/// One up channel's text so far.
+#[derive(Clone, Debug, Default)]
+pub struct Channel {
+    pub name: String,
+    pub text: String,
+}
+
+/// The reader's state: the block address and the channels seen.
+#[derive(Clone, Debug, Default)]
+pub struct Rtt {
+    pub block: u32,
+    pub channels: Vec<Channel>,
+}
+
+impl Rtt {
+    pub fn new(block: u32) -> Rtt {
+        Rtt {
+            block,
+            channels: Vec::new(),
+        }
+    }
+
+    /// Moves every up channel's new bytes into its text; nothing while the block is not
+    /// initialised (before `rtt_init!` ran).
+    pub fn poll(&mut self, mem: &mut impl Memory) {
+        let Some(id) = mem.read(self.block, ID.len()) else {
+            return;
+        };
+        if id != ID {
+            return;
+        }
+        let ups = mem.read_u32(self.block + 16).unwrap_or(0).min(16);
+        for i in 0..ups {
+            let at = self.block + HEADER + i * CHANNEL;
+            let Some(d) = mem.read(at, 24) else { return };
+            let w =
+                |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
+            let (name, buffer, size, write, read) = (w(0), w(1), w(2), w(3), w(4));
+            if self.channels.len() <= i as usize {
+                self.channels.push(Channel {
+                    name: c_string(mem, name),
+                    text: String::new(),
+                });
+            }
+            if buffer == 0 || size == 0 || write >= size || read >= size || write == read {
+                continue;
+            }
+            let bytes = if write > read {
+                mem.read(buffer + read, (write - read) as usize)
+            } else {
+                let mut a = mem
+                    .read(buffer + read, (size - read) as usize)
+                    .unwrap_or_default();
+                a.extend(mem.read(buffer, write as usize).unwrap_or_default());
+                Some(a)
+            };
+            if let Some(b) = bytes {
+                self.channels[i as usize]
+                    .text
+                    .push_str(&String::from_utf8_lossy(&b));
+                mem.write_u32(at + 16, write);
+            }
+        }
+    }
+
+    /// Text of up channel `i` so far.
+    pub fn text(&self, i: usize) -> &str {
+        self.channels.get(i).map_or("", |c| c.text.as_str())
+    }
+}
+
+fn c_string(mem: &impl Memory, addr: u32) -> String {
+    let bytes = mem.read(addr, 32).unwrap_or_default();
+    let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+    String::from_utf8_lossy(&bytes[..end]).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Ram(Vec<u8>);
+    impl Memory for Ram {
+        fn read(&self, addr: u32, len: usize) -> Option<Vec<u8>> {
+            self.0
+                .get(addr as usize..addr as usize + len)
+                .map(<[u8]>::to_vec)
+        }
+        fn write_u32(&mut self, addr: u32, value: u32) -> bool {
+            self.0[addr as usize..addr as usize + 4].copy_from_slice(&value.to_le_bytes());
+            true
+        }
+    }
+
+    #[test]
+    fn reads_new_bytes_once_and_wraps() {
+        let mut ram = Ram(vec![0; 512]);
+        ram.0[..10].copy_from_slice(ID);
+        ram.write_u32(16, 1);
+        ram.0[200..204].copy_from_slice(b"log\0");
+        for (k, v) in [200u32, 300, 8, 5, 0].iter().enumerate() {
+            ram.write_u32(24 + 4 * k as u32, *v);
+        }
+        ram.0[300..308].copy_from_slice(b"hello!ab");
+        let mut rtt = Rtt::new(0);
+        rtt.poll(&mut ram);
+        assert_eq!(rtt.channels[0].name, "log");
+        assert_eq!(rtt.text(0), "hello");
+        rtt.poll(&mut ram);
+        assert_eq!(rtt.text(0), "hello", "read offset advanced");
+        ram.write_u32(24 + 12, 2); // wrote "!ab" and wrapped to 2
+        ram.0[300..302].copy_from_slice(b"cd");
+        rtt.poll(&mut ram);
+        assert_eq!(rtt.text(0), "hello!abcd");
+    }
+}
