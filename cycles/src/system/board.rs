@@ -88,8 +88,8 @@ enum Fault {
 /// What the board recorded, for reports and tests.
 #[derive(Clone, Debug, Default)]
 pub struct Log {
-    /// Cycles at which the DCMI finished a frame's window (FRAME).
-    pub frames_captured: Vec<u64>,
+    /// Cycle at which the DCMI finished a frame's window (FRAME), and the sensor's frame number.
+    pub frames_captured: Vec<(u64, u64)>,
     /// Bytes written to UART4's DR, with the cycle of the write.
     pub uart_writes: Vec<(u64, u8)>,
     /// Resets after power-on.
@@ -123,6 +123,10 @@ struct Sys {
     log: Log,
     /// Camera stalls: no frame starts inside these cycle ranges.
     stalls: Vec<std::ops::Range<u64>>,
+    /// The DMA is held off the bus (another master) inside these cycle ranges.
+    dma_holds: Vec<std::ops::Range<u64>>,
+    /// Frames the sensor cuts short: (frame, lines sent before VSYNC blanks).
+    torn: Vec<(u64, u16)>,
     /// Cycle of the last load accounting.
     accounted: u64,
     dwt: Vec<u8>,
@@ -170,6 +174,8 @@ impl Board {
                 ..Log::default()
             },
             stalls: Vec::new(),
+            dma_holds: Vec::new(),
+            torn: Vec::new(),
             accounted: 0,
             dwt: vec![0; 0x1000],
         };
@@ -241,6 +247,18 @@ impl Board {
     /// The sensor sends no frame that would start inside `cycles` (a camera stall).
     pub fn stall_camera(&mut self, cycles: std::ops::Range<u64>) {
         self.uc.get_data_mut().stalls.push(cycles);
+    }
+
+    /// The DMA serves no request inside `cycles` (as if another bus master held it): the DCMI's
+    /// FIFO fills and overruns.
+    pub fn hold_dma(&mut self, cycles: std::ops::Range<u64>) {
+        self.uc.get_data_mut().dma_holds.push(cycles);
+    }
+
+    /// The sensor sends only the first `lines` lines of frame `frame`, then blanks (a torn
+    /// frame: VSYNC early).
+    pub fn tear_frame(&mut self, frame: u64, lines: u16) {
+        self.uc.get_data_mut().torn.push((frame, lines));
     }
 
     /// Reads memory (after a run, for tests).
@@ -487,24 +505,38 @@ impl Board {
                     image.resize(WIDTH * HEIGHT, 128);
                     st.image = image;
                     st.p.dcmi.frame_start();
-                    for line in 0..t.lines {
+                    let lines = st
+                        .torn
+                        .iter()
+                        .find(|(f, _)| *f == frame)
+                        .map_or(t.lines, |(_, n)| (*n).clamp(1, t.lines));
+                    for line in 0..lines {
                         st.events
                             .schedule(at + t.line_end(line), Event::LineEnd { frame, line });
                     }
                     st.events
-                        .schedule(at + t.blank_start(), Event::FrameEnd { frame });
+                        .schedule(at + t.line_end(lines - 1), Event::FrameEnd { frame });
                 }
             }
-            Event::LineEnd { line, .. } => {
+            Event::LineEnd {
+                frame: number,
+                line,
+            } => {
                 let (x0, y0) = st.p.dcmi.window_origin();
                 let clocks = usize::from(st.config.camera.line_clocks);
                 let bytes =
                     dcmi::sensor_line(&st.image, WIDTH, HEIGHT, usize::from(line), clocks, x0, y0);
                 let (words, frame) = st.p.dcmi.line_end(line, &bytes);
+                let held = st.dma_holds.iter().any(|r| r.contains(&at));
                 for w in words {
                     let reachable = |a: u32| SRAM.contains(&a) || PERIPH.contains(&a);
                     let st = self.uc.get_data_mut();
-                    match st.p.dma.request(DCMI_STREAM, DCMI_CHANNEL, reachable) {
+                    let transfer = if held {
+                        Transfer::Refused
+                    } else {
+                        st.p.dma.request(DCMI_STREAM, DCMI_CHANNEL, reachable)
+                    };
+                    match transfer {
                         Transfer::Write(addr) => {
                             self.uc
                                 .mem_write(addr.into(), &w.to_le_bytes())
@@ -514,7 +546,11 @@ impl Board {
                     }
                 }
                 if frame {
-                    self.uc.get_data_mut().log.frames_captured.push(at);
+                    self.uc
+                        .get_data_mut()
+                        .log
+                        .frames_captured
+                        .push((at, number));
                 }
             }
             Event::FrameEnd { .. } => st.p.dcmi.frame_end(),

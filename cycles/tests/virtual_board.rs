@@ -1,0 +1,269 @@
+//! The unmodified release firmware on the virtual Colias board (`alvs_cycles::system`): boot,
+//! frames through DCMI and DMA into perception, motor frames on UART4, and the fault paths.
+//! Each scenario is a second or two of simulated time.
+
+use std::path::Path;
+
+use alvs_cycles::budget::{build_firmware, BuildError, CLIPS_DIR};
+use alvs_cycles::system::{Board, Config, ResetCause};
+use alvs_cycles::CLOCK_HZ;
+use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+use alvs_tasks::robot::control::Control;
+use alvs_tasks::robot::health::{Safety, PRIME_FRAMES};
+use alvs_tasks::robot::motor::{self, BoardModel};
+use alvs_tasks::robot::telemetry::Record;
+use alvs_tasks::{Frame, Network, PIXELS};
+
+const MS: u64 = CLOCK_HZ / 1000;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("root")
+}
+
+fn firmware() -> Option<Vec<u8>> {
+    match build_firmware(root()) {
+        Ok(path) => Some(std::fs::read(path).expect("firmware ELF")),
+        Err(BuildError::TargetMissing) => {
+            println!("SKIPPED: {}", BuildError::TargetMissing);
+            None
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn clip(name: &str) -> Vec<Vec<u8>> {
+    let bytes = std::fs::read(root().join(CLIPS_DIR).join(name)).expect("clip");
+    bytes.chunks_exact(PIXELS).map(<[u8]>::to_vec).collect()
+}
+
+/// A board whose camera loops over `frames`.
+fn board(elf: &[u8], frames: Vec<Vec<u8>>, config: Config) -> Board {
+    let source = Box::new(move |n: u64| frames[n as usize % frames.len()].clone());
+    Board::new(elf, config, source).expect("board")
+}
+
+/// Grey frames with a little noise, so that nothing alerts and the robot wanders.
+fn quiet_frames() -> Vec<Vec<u8>> {
+    (0..8u32)
+        .map(|k| {
+            (0..PIXELS as u32)
+                .map(|i| (120 + (i.wrapping_mul(2_654_435_761) >> (28 - k % 3)) % 8) as u8)
+                .collect()
+        })
+        .collect()
+}
+
+/// Telemetry lines without their cycle field (the host build has no cycle counter).
+fn without_cycles(line: &str) -> String {
+    line.split(' ')
+        .filter(|f| !f.starts_with("cyc="))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The motor frames in a byte stream (each ends with the protocol's END byte).
+fn frames_of(bytes: &[u8]) -> Vec<Vec<u8>> {
+    bytes
+        .split_inclusive(|&b| b == motor::END)
+        .filter(|f| f.last() == Some(&motor::END))
+        .map(<[u8]>::to_vec)
+        .collect()
+}
+
+fn stop_bytes() -> Vec<u8> {
+    motor::stop_frames().iter().flatten().copied().collect()
+}
+
+#[test]
+fn boots_to_the_banner_brings_the_camera_up_and_streams_frames() {
+    let Some(elf) = firmware() else { return };
+    let mut b = board(&elf, quiet_frames(), Config::default());
+    b.run_for(600 * MS).expect("runs");
+    let log = b.rtt(0);
+    assert_eq!(b.rtt_names(), ["log", "telemetry"]);
+    assert!(log.starts_with("alvs-firmware "), "{log}");
+    assert!(log.contains("clocks: SYSCLK 180000000 Hz"), "{log}");
+    assert!(log.contains("camera: OV7670 PID 0x76 VER 0x73"), "{log}");
+    assert!(log.contains("running: model alvs"), "{log}");
+    assert!(!log.contains("ERROR"), "{log}");
+    assert!(b.log().resets.is_empty());
+    let lines = b.rtt(1).lines().filter(|l| l.starts_with("F ")).count();
+    assert!(lines >= 8, "{lines} telemetry lines:\n{}", b.rtt(1));
+    // motors: the stop frames first, then (once primed) the enable sequence and wheel powers
+    let sent: Vec<u8> = b.uart_sent().iter().map(|&(_, v)| v).collect();
+    assert!(sent.starts_with(&stop_bytes()), "{sent:02X?}");
+    let mut robot = BoardModel::default();
+    for f in frames_of(&sent) {
+        robot.apply(&f).expect("well-formed motor frame");
+    }
+    assert!(robot.enabled(), "wandering after priming");
+}
+
+#[test]
+fn without_a_camera_it_reports_and_the_watchdog_retries() {
+    let Some(elf) = firmware() else { return };
+    let config = Config {
+        camera_present: false,
+        ..Config::default()
+    };
+    let mut b = board(&elf, quiet_frames(), config);
+    b.run_for(700 * MS).expect("runs");
+    let log = b.rtt(0);
+    assert!(log.contains("ERROR camera: no sensor"), "{log}");
+    let resets = &b.log().resets;
+    assert_eq!(resets.len(), 1, "{resets:?}");
+    assert_eq!(resets[0].1, ResetCause::Watchdog);
+    assert_eq!(log.matches("alvs-firmware ").count(), 2, "{log}");
+}
+
+#[test]
+fn a_clip_runs_bit_identical_to_the_host_build() {
+    let Some(elf) = firmware() else { return };
+    let frames = clip("test_black_approach.y8");
+    let mut b = board(&elf, frames.clone(), Config::default());
+    b.run_for(2_500 * MS).expect("runs");
+    let captured: Vec<u64> = b.log().frames_captured.iter().map(|&(_, f)| f).collect();
+    let telemetry: Vec<&str> = b.rtt(1).lines().collect();
+    assert!(telemetry.len() >= 60, "{} lines", telemetry.len());
+    assert!(
+        b.rtt(0).contains("dropped=0 invalid=0 overruns=0"),
+        "{}",
+        b.rtt(0)
+    );
+
+    // the same frames through the host build of the same task code
+    let mut network = Network::alvs();
+    let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
+    let mut safety = Safety::new();
+    let mut expected_bytes: Vec<u8> = control.stop().iter().flatten().copied().collect();
+    let mut alerts = 0;
+    for (k, line) in telemetry.iter().enumerate() {
+        let mut frame: Frame = [0; PIXELS];
+        frame.copy_from_slice(&frames[captured[k] as usize % frames.len()]);
+        let p = network.step(&frame);
+        safety.frame(33 * k as u32);
+        let enable = safety.fault().is_none() && safety.primed();
+        let (command, out) = control.step(&p.vm, enable);
+        expected_bytes.extend(out.iter().flatten());
+        let host = Record::from_perception(&p, command.state, 0).to_line();
+        assert_eq!(
+            without_cycles(line),
+            without_cycles(host.trim_end()),
+            "frame {k}"
+        );
+        alerts += usize::from(p.alert());
+    }
+    assert!(alerts > 0, "the clip looms: some frames alert");
+    assert!(PRIME_FRAMES as usize <= telemetry.len());
+    // every byte the firmware wrote to UART4 is the host's, in order
+    let written: Vec<u8> = b.log().uart_writes.iter().map(|&(_, v)| v).collect();
+    assert!(written.len() > 100);
+    assert_eq!(written[..], expected_bytes[..written.len()]);
+}
+
+#[test]
+fn a_camera_stall_stops_the_motors_and_frames_bring_them_back() {
+    let Some(elf) = firmware() else { return };
+    let mut b = board(&elf, quiet_frames(), Config::default());
+    b.run_for(700 * MS).expect("runs");
+    let stall = b.now();
+    b.stall_camera(stall..stall + 400 * MS);
+    b.run_for(700 * MS).expect("runs");
+    let last_frame = b
+        .log()
+        .frames_captured
+        .iter()
+        .map(|&(t, _)| t)
+        .filter(|&t| t < stall)
+        .max()
+        .expect("frames before the stall");
+    let log = b.rtt(0);
+    assert!(log.contains("ERROR camera stall: motors stopped"), "{log}");
+    assert!(log.contains("recovered: frames flow again"), "{log}");
+    // the disable frame is written within STALL_MS (100 ms) plus one supervisor period
+    // (10 ms) of the last frame
+    let disable = &motor::stop_frames()[0];
+    let writes = &b.log().uart_writes;
+    let at = writes
+        .windows(disable.len())
+        .position(|w| w.iter().map(|&(_, v)| v).eq(disable.iter().copied()) && w[0].0 > stall)
+        .map(|i| writes[i].0)
+        .expect("stop frames after the stall");
+    let after = (at - last_frame) / MS;
+    assert!(
+        (100..=115).contains(&after),
+        "stop frames {after} ms after the last frame"
+    );
+    assert!(
+        b.log().resets.is_empty(),
+        "perception resumed before the watchdog ran out"
+    );
+}
+
+#[test]
+fn a_fault_stops_the_motors_then_the_watchdog_resets() {
+    let Some(elf) = firmware() else { return };
+    let mut b = board(&elf, quiet_frames(), Config::default());
+    b.run_for(700 * MS).expect("runs");
+    let fault = b.now();
+    b.inject_undefined_instruction().expect("fault taken");
+    b.run_for(800 * MS).expect("runs");
+    let log = b.rtt(0);
+    assert!(log.contains("FAULT: motors stopped"), "{log}");
+    let sent: Vec<u8> = b
+        .uart_sent()
+        .iter()
+        .filter(|&&(t, _)| t > fault)
+        .map(|&(_, v)| v)
+        .collect();
+    let stop = stop_bytes();
+    let found = sent.windows(stop.len()).position(|w| w == stop);
+    assert!(found.is_some(), "stop frames after the fault: {sent:02X?}");
+    let resets = &b.log().resets;
+    assert_eq!(resets.len(), 1, "{resets:?}");
+    assert_eq!(resets[0].1, ResetCause::Watchdog);
+    let after = (resets[0].0 - fault) / MS;
+    assert!(
+        (400..=600).contains(&after),
+        "reset {after} ms after the fault"
+    );
+    assert_eq!(
+        log.matches("alvs-firmware ").count(),
+        2,
+        "booted again: {log}"
+    );
+}
+
+#[test]
+fn overruns_and_torn_frames_are_counted_and_never_delivered() {
+    let Some(elf) = firmware() else { return };
+    let mut b = board(&elf, quiet_frames(), Config::default());
+    b.run_for(600 * MS).expect("runs");
+    let t = b.now();
+    // the DMA held off the bus for one line period inside the next frame's window
+    let frame = 6_000_000;
+    let next = (t / frame + 1) * frame + 1_000_000;
+    b.hold_dma(next + 300_000..next + 340_000);
+    // and the frame after it torn after 40 of its 144 lines
+    let torn = (next + frame - 1_000_000) / frame;
+    b.tear_frame(torn, 40);
+    b.run_for(1_600 * MS).expect("runs");
+    assert_eq!(b.dcmi_overruns(), 1);
+    let summaries: Vec<&str> = b.rtt(0).lines().filter(|l| l.starts_with("S ")).collect();
+    let total = |key: &str| -> u32 {
+        summaries
+            .iter()
+            .filter_map(|l| {
+                l.split(' ')
+                    .find_map(|f| f.strip_prefix(key))
+                    .and_then(|v| v.parse::<u32>().ok())
+            })
+            .sum()
+    };
+    assert_eq!(total("overruns="), 1, "{summaries:?}");
+    assert_eq!(total("invalid="), 2, "{summaries:?}");
+    assert_eq!(total("processed="), total("frames=") - 2, "{summaries:?}");
+    assert!(b.log().resets.is_empty());
+}
