@@ -267,3 +267,46 @@ fn overruns_and_torn_frames_are_counted_and_never_delivered() {
     assert_eq!(total("processed="), total("frames=") - 2, "{summaries:?}");
     assert!(b.log().resets.is_empty());
 }
+
+#[test]
+fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
+    if firmware().is_none() {
+        return;
+    }
+    let exe = env!("CARGO_BIN_EXE_alvs-virtual");
+    let out = std::process::Command::new(exe)
+        .args(["--seconds", "0.8", "--telemetry", "3"])
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for part in [
+        "── RTT up channel 0: log ──\nalvs-firmware ",
+        "── RTT up channel 1: telemetry (last 3 of ",
+        "── timing ──",
+        "frame complete -> first motor byte: min ",
+        "DMA2_STREAM1",
+        "asleep (WFI)",
+    ] {
+        assert!(stdout.contains(part), "{part:?} missing:\n{stdout}");
+    }
+
+    let bad = std::env::temp_dir().join(format!("alvs-virtual-bad-{}.y8", std::process::id()));
+    std::fs::write(&bad, vec![0u8; PIXELS + 5]).unwrap();
+    let out = std::process::Command::new(exe)
+        .arg("--clip")
+        .arg(&bad)
+        .output()
+        .expect("runs");
+    let _ = std::fs::remove_file(&bad);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("7133 bytes is not a whole number of 99x72 Y8 frames (7128 bytes each)"),
+        "{stderr}"
+    );
+}

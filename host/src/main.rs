@@ -65,6 +65,20 @@ enum Cmd {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
+    /// The unmodified firmware ELF on a virtual Colias board: RTT tabs and a timing report.
+    ///
+    /// Boots the release firmware from its reset vector on the Cortex-M4 model with a host
+    /// NVIC and models of the camera (OV7670 over SCCB, DCMI, DMA), UART4, watchdog and RTT;
+    /// prints the log and telemetry tabs as `cargo embed` shows them, then frame complete →
+    /// first motor byte latency, CPU load per interrupt, dropped frames. Runs `alvs-virtual`
+    /// of the crate alvs-cycles (cmake and libclang-dev, as for `budget`); `cargo alvs virtual
+    /// --help` lists its options (--clip, --seconds, --blanking, --sweep-blanking, ...).
+    #[command(disable_help_flag = true)]
+    Virtual {
+        /// Options of alvs-virtual (e.g. --clip tests/data/clips/real_bird_attack.y8 --seconds 3).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
     /// Experiment 1 (paper Fig. 3): a standing ALVS robot watches obstacle robots translate,
     /// recede, approach, and two and three approach at once; attention-field tracks, LPLC2
     /// traces and layer pictures per scene.
@@ -535,13 +549,14 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Evasion(a) => run_evasion(a),
         Cmd::TwoThreats(a) => run_two_threats(a),
         Cmd::Swarm(a) => run_swarm(a),
-        Cmd::Budget { args } => run_budget(&args),
+        Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
+        Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
     }
 }
 
-/// Runs `alvs-budget` (crate alvs-cycles) through cargo, so that the host tools themselves never
-/// need the emulator's C build.
-fn run_budget(args: &[String]) -> Result<()> {
+/// Runs a binary of the crate alvs-cycles (`alvs-budget`, `alvs-virtual`) through cargo, so that
+/// the host tools themselves never need the emulator's C build.
+fn run_cycles_bin(bin: &str, args: &[String]) -> Result<()> {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .context("workspace root")?;
@@ -555,13 +570,13 @@ fn run_budget(args: &[String]) -> Result<()> {
             "-p",
             "alvs-cycles",
         ])
-        .args(["--bin", "alvs-budget", "--"])
+        .args(["--bin", bin, "--"])
         .args(args)
         .current_dir(root)
         .status()
         .context("running cargo")?;
     if !status.success() {
-        bail!("alvs-budget failed ({status})");
+        bail!("{bin} failed ({status})");
     }
     Ok(())
 }

@@ -278,6 +278,23 @@ impl Board {
         self.fault(Fault::Undefined { pc })
     }
 
+    /// The symbol of exception `exc`'s handler in the vector table ("Thread" for 0).
+    pub fn exception_name(&self, exc: u16) -> String {
+        if exc == 0 {
+            return "Thread".into();
+        }
+        let vector = self
+            .read_u32(self.vector_table() + 4 * u32::from(exc))
+            .unwrap_or(0)
+            & !1;
+        self.symbols
+            .iter()
+            .filter(|(_, s)| s.function && s.address() == vector)
+            .map(|(n, _)| n.clone())
+            .min_by_key(|n| (n.starts_with('_'), n.len()))
+            .unwrap_or_else(|| format!("exception {exc}"))
+    }
+
     fn pc(&self) -> Result<u32, Error> {
         Ok(self.uc.reg_read(RegisterARM::PC).map_err(emu)? as u32)
     }

@@ -12,9 +12,11 @@ pub mod iwdg;
 pub mod nvic;
 pub mod ov7670;
 pub mod rcc;
+pub mod report;
 pub mod rtt;
 pub mod systick;
 pub mod uart;
 
 pub use board::{Board, Config, FrameSource, Log, ResetCause, HEIGHT, WIDTH};
 pub use dcmi::CameraTiming;
+pub use report::Report;

@@ -1,0 +1,205 @@
+//! `alvs-virtual`: the release firmware on the virtual Colias board (what `cargo alvs virtual`
+//! runs). Builds the firmware, boots it from its reset vector, feeds its camera a clip or a
+//! grey scene, prints the RTT tabs as `cargo embed` shows them and a timing report.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use alvs_cycles::budget::build_firmware;
+use alvs_cycles::system::{Board, CameraTiming, Config, Report, HEIGHT, WIDTH};
+use alvs_cycles::CLOCK_HZ;
+use clap::Parser;
+
+/// Runs the unmodified firmware ELF on a virtual Colias sense board and reports its timing.
+#[derive(Parser)]
+#[command(
+    version,
+    about = "Runs the unmodified firmware ELF on a virtual Colias sense board: RTT tabs and a timing report"
+)]
+struct Args {
+    /// Camera input: a raw 99x72 Y8 clip (looped); without it a still grey scene with sensor
+    /// noise. Relative paths are taken from the workspace root.
+    #[arg(long, value_name = "FILE")]
+    clip: Option<PathBuf>,
+    /// Simulated time, seconds.
+    #[arg(long, default_value_t = 3.0)]
+    seconds: f64,
+    /// Fraction of the frame period the camera's VSYNC blanks (OV7670 VGA timing: 0.06).
+    #[arg(long, default_value_t = 0.06)]
+    blanking: f64,
+    /// HREF lines the camera sends per frame (QCIF: 144; the DCMI crops 72).
+    #[arg(long, default_value_t = 144)]
+    lines: u16,
+    /// Camera frame rate, frames per second.
+    #[arg(long, default_value_t = 30.0)]
+    fps: f64,
+    /// The board without its camera (SCCB unanswered).
+    #[arg(long)]
+    no_camera: bool,
+    /// Stop the camera at this time, seconds (for --stall-for seconds).
+    #[arg(long, value_name = "S")]
+    stall_at: Option<f64>,
+    /// Length of the camera stall, seconds.
+    #[arg(long, value_name = "S", default_value_t = 0.5)]
+    stall_for: f64,
+    /// Raise the fault a panic ends with (an undefined instruction) at this time, seconds.
+    #[arg(long, value_name = "S")]
+    fault_at: Option<f64>,
+    /// Telemetry lines to print (the last N).
+    #[arg(long, default_value_t = 10)]
+    telemetry: usize,
+    /// Instead of one run: dropped frames per second for each of these blanking fractions
+    /// (comma-separated), at the given --lines.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    sweep_blanking: Vec<f64>,
+}
+
+fn main() -> ExitCode {
+    match run(&Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("alvs-virtual: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("the crate sits in the workspace")
+}
+
+/// The camera's frames: the clip's, or grey with ±4 levels of noise.
+fn frames(args: &Args) -> Result<Vec<Vec<u8>>, String> {
+    let size = WIDTH * HEIGHT;
+    match &args.clip {
+        Some(path) => {
+            let path = if path.is_relative() {
+                root().join(path)
+            } else {
+                path.clone()
+            };
+            let bytes =
+                std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            if bytes.is_empty() || bytes.len() % size != 0 {
+                return Err(format!(
+                    "{}: {} bytes is not a whole number of {WIDTH}x{HEIGHT} Y8 frames ({size} bytes each)",
+                    path.display(),
+                    bytes.len()
+                ));
+            }
+            Ok(bytes.chunks_exact(size).map(<[u8]>::to_vec).collect())
+        }
+        None => Ok((0..8u32)
+            .map(|k| {
+                (0..size as u32)
+                    .map(|i| (124 + (i.wrapping_mul(2_654_435_761).rotate_left(k) >> 29)) as u8)
+                    .collect()
+            })
+            .collect()),
+    }
+}
+
+fn config(args: &Args, blanking: f64) -> Result<Config, String> {
+    if !(0.0..0.9).contains(&blanking) {
+        return Err(format!("--blanking {blanking}: must be in 0..0.9"));
+    }
+    if args.lines < 72 {
+        return Err(format!(
+            "--lines {}: the DCMI window takes 72 lines",
+            args.lines
+        ));
+    }
+    if !(1.0..=120.0).contains(&args.fps) {
+        return Err(format!("--fps {}: must be in 1..=120", args.fps));
+    }
+    Ok(Config {
+        camera: CameraTiming {
+            frame_cycles: (CLOCK_HZ as f64 / args.fps) as u64,
+            lines: args.lines,
+            blank_fraction: blanking,
+            ..CameraTiming::default()
+        },
+        camera_present: !args.no_camera,
+        ..Config::default()
+    })
+}
+
+fn board(elf: &[u8], frames: &[Vec<u8>], config: Config) -> Result<Board, String> {
+    let frames = frames.to_vec();
+    let source = Box::new(move |n: u64| frames[n as usize % frames.len()].clone());
+    Board::new(elf, config, source).map_err(|e| e.to_string())
+}
+
+fn cycles(seconds: f64) -> u64 {
+    (seconds.max(0.0) * CLOCK_HZ as f64) as u64
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    if !(0.0..=600.0).contains(&args.seconds) {
+        return Err(format!("--seconds {}: must be in 0..=600", args.seconds));
+    }
+    let frames = frames(args)?;
+    let elf_path = build_firmware(root()).map_err(|e| e.to_string())?;
+    let elf =
+        std::fs::read(&elf_path).map_err(|e| format!("cannot read {}: {e}", elf_path.display()))?;
+    if !args.sweep_blanking.is_empty() {
+        return sweep(args, &elf, &frames);
+    }
+    let mut b = board(&elf, &frames, config(args, args.blanking)?)?;
+    if let Some(at) = args.stall_at {
+        b.stall_camera(cycles(at)..cycles(at + args.stall_for));
+    }
+    let end = cycles(args.seconds);
+    if let Some(at) = args.fault_at.filter(|&t| cycles(t) < end) {
+        b.run_until(cycles(at)).map_err(|e| e.to_string())?;
+        b.inject_undefined_instruction()
+            .map_err(|e| e.to_string())?;
+    }
+    b.run_until(end).map_err(|e| e.to_string())?;
+
+    println!("── RTT up channel 0: log ──");
+    print!("{}", b.rtt(0));
+    let telemetry: Vec<&str> = b.rtt(1).lines().collect();
+    let shown = args.telemetry.min(telemetry.len());
+    println!(
+        "── RTT up channel 1: telemetry (last {shown} of {} lines) ──",
+        telemetry.len()
+    );
+    for l in &telemetry[telemetry.len() - shown..] {
+        println!("{l}");
+    }
+    println!("── timing ──");
+    print!("{}", Report::of(&b));
+    Ok(())
+}
+
+fn sweep(args: &Args, elf: &[u8], frames: &[Vec<u8>]) -> Result<(), String> {
+    println!(
+        "{} HREF lines a frame, window of 72 from line 0, {:.0} fps, {} s each",
+        args.lines, args.fps, args.seconds
+    );
+    println!("blanking  dropped/s  processed/s  latency mean ms");
+    for &blanking in &args.sweep_blanking {
+        let mut b = board(elf, frames, config(args, blanking)?)?;
+        b.run_for(cycles(args.seconds)).map_err(|e| e.to_string())?;
+        let r = Report::of(&b);
+        // the firmware's summary lines cover whole seconds after boot
+        let seconds = b
+            .rtt(0)
+            .lines()
+            .filter(|l| l.starts_with("S "))
+            .count()
+            .max(1) as f64;
+        let processed = alvs_cycles::system::report::summary_total(b.rtt(0), "processed");
+        println!(
+            "{blanking:>8.2}  {:>9.1}  {:>11.1}  {:>15}",
+            r.dropped as f64 / seconds,
+            processed as f64 / seconds,
+            r.latency()
+                .map_or_else(|| "-".to_owned(), |(_, mean, _)| format!("{mean:.2}"))
+        );
+    }
+    Ok(())
+}
