@@ -310,3 +310,17 @@ fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
         "{stderr}"
     );
 }
+
+#[test]
+fn closed_loop_the_firmware_turns_away_from_an_obstacle_on_its_right() {
+    use alvs_cycles::system::closed_loop::evasion_trial;
+    let Some(elf) = firmware() else { return };
+    let texture = alvs_host::experiments::texture("clutter:1").expect("texture");
+    let e = evasion_trial(elf, Config::default(), 20.0, texture, 1);
+    assert_eq!(e.error, None);
+    let r = &e.result;
+    let alert = r.first_alert_s.expect("the firmware saw it coming");
+    assert!(alert < 5.0, "alert {alert} s, before the obstacle arrives (5 s)");
+    assert!(e.correct_side, "turned {} °", r.escape_turn_deg);
+    assert!(r.escape_turn_deg < -60.0, "a left turn: {} °", r.escape_turn_deg);
+}

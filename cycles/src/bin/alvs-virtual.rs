@@ -48,6 +48,14 @@ struct Args {
     /// Telemetry lines to print (the last N).
     #[arg(long, default_value_t = 10)]
     telemetry: usize,
+    /// Closed loop instead of a clip: the evasion trial of `cargo alvs evasion` with the
+    /// firmware as the tested robot's brain; an obstacle approaches from this bearing, degrees
+    /// (positive = right).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    evasion: Option<f64>,
+    /// Wall texture of the evasion arena (as `cargo alvs evasion --background`).
+    #[arg(long, default_value = "clutter:1")]
+    background: String,
     /// Instead of one run: dropped frames per second for each of these blanking fractions
     /// (comma-separated), at the given --lines.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -147,6 +155,9 @@ fn run(args: &Args) -> Result<(), String> {
     if !args.sweep_blanking.is_empty() {
         return sweep(args, &elf, &frames);
     }
+    if let Some(bearing) = args.evasion {
+        return evasion(args, elf, bearing);
+    }
     let mut b = board(&elf, &frames, config(args, args.blanking)?)?;
     if let Some(at) = args.stall_at {
         b.stall_camera(cycles(at)..cycles(at + args.stall_for));
@@ -172,6 +183,35 @@ fn run(args: &Args) -> Result<(), String> {
     }
     println!("── timing ──");
     print!("{}", Report::of(&b));
+    Ok(())
+}
+
+/// One evasion trial with the firmware in the loop; prints the outcome.
+fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
+    use alvs_cycles::system::closed_loop::{evasion_trial, Evasion};
+    if !(-35.0..=35.0).contains(&bearing) {
+        return Err(format!("--evasion {bearing}: the bearing must be in -35..=35 degrees"));
+    }
+    let texture = alvs_host::experiments::texture(&args.background).map_err(|e| e.to_string())?;
+    let Evasion {
+        result,
+        correct_side,
+        error,
+    } = evasion_trial(elf, config(args, args.blanking)?, bearing, texture, 1);
+    if let Some(e) = error {
+        return Err(format!("the virtual board stopped: {e}"));
+    }
+    println!(
+        "evasion with the firmware in the loop: obstacle at {bearing:+.1}°, first alert {}, turned {:+.0}° ({:?}), {}, {}, closest {:.0} mm",
+        result
+            .first_alert_s
+            .map_or_else(|| "never".to_owned(), |s| format!("after {s:.2} s")),
+        result.escape_turn_deg,
+        result.side(),
+        if correct_side { "correct side" } else { "WRONG side" },
+        if result.collided() { "COLLIDED" } else { "no collision" },
+        result.min_distance_mm[0]
+    );
     Ok(())
 }
 

@@ -27,7 +27,7 @@
 
 use alvs_tasks::Params;
 
-use crate::arena::controller::{Approach, HoldUntilAlert};
+use crate::arena::controller::{Approach, Controller, HoldUntilAlert};
 use crate::arena::{
     Command, ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, Seen,
     SensorNoise, Sim, WallTexture, World, FRAME_DT_S,
@@ -291,12 +291,22 @@ pub fn frames_of(threats: &[Threat]) -> u64 {
 
 /// Runs one encounter; `progress` is told of simulated frames.
 pub fn run(e: &Encounter, progress: &(dyn Fn(u64) + Sync)) -> EncounterResult {
+    let controller_seed = Rng::new(e.seed).fork(CONTROLLER_STREAM).next_u64();
+    run_with(e, e.kind.make(e.params, e.fsm, controller_seed), progress)
+}
+
+/// [`run`] with the tested robot's controller given (e.g. the firmware on the virtual board);
+/// `e.kind`, `e.params` and `e.fsm` are then not used.
+pub fn run_with(
+    e: &Encounter,
+    controller: Box<dyn Controller>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> EncounterResult {
     let world = World::with_texture(e.texture.clone());
     let mut sim = Sim::new(&world, e.seed);
     let (motor, gyro, noise) = crate::arena::robot_noise(e.noise);
     let start = tested_start();
-    let controller_seed = Rng::new(e.seed).fork(CONTROLLER_STREAM).next_u64();
-    let tested = HoldUntilAlert::new(e.kind.make(e.params, e.fsm, controller_seed));
+    let tested = HoldUntilAlert::new(controller);
     sim.add(start, Box::new(tested), motor, gyro, noise);
     for t in &e.threats {
         let obstacle = Approach {

@@ -1,0 +1,202 @@
+//! The firmware in the arena's loop: a host [`Controller`] whose brain is the release firmware
+//! on the virtual board. Each arena frame becomes the camera's next frame; the board runs one
+//! frame period; the motor frames that left UART4 meanwhile, decoded by the bottom board's
+//! register model (`tasks::robot::motor::BoardModel`), set the wheel speeds. The board runs on
+//! its own thread (the emulator is not `Send`); the controller talks to it over channels.
+
+use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::{Arc, Mutex};
+
+use alvs_host::arena::{Command, Controller, Seen};
+use alvs_tasks::model::fsm::State;
+use alvs_tasks::robot::motor::{self, BoardModel};
+use alvs_tasks::robot::telemetry::Record;
+use alvs_tasks::Frame;
+
+use super::board::{Board, Config};
+
+/// What the board did in one frame period.
+#[derive(Clone, Copy, Debug)]
+struct Step {
+    left_mm_s: f32,
+    right_mm_s: f32,
+    /// The FSM state, `ΣLPLC2` and `X̄` of the last telemetry record.
+    state: State,
+    sum: u32,
+    threat_x: Option<f32>,
+}
+
+/// A robot driven by the firmware on a virtual board.
+pub struct FirmwareRobot {
+    frames: Sender<Frame>,
+    steps: Receiver<Step>,
+    last: Step,
+    error: Arc<Mutex<Option<String>>>,
+}
+
+/// Cycles the board runs before the first arena frame: boot, self-benchmark, camera set-up.
+pub const BOOT_CYCLES: u64 = 90_000_000;
+
+impl FirmwareRobot {
+    /// Boots the firmware `elf` (for [`BOOT_CYCLES`], looking at a grey scene) and returns the
+    /// controller, with a handle on the board's error, if it fails.
+    pub fn new(elf: Vec<u8>, config: Config) -> (FirmwareRobot, Arc<Mutex<Option<String>>>) {
+        let (frames_tx, frames_rx) = channel::<Frame>();
+        let (steps_tx, steps_rx) = channel::<Step>();
+        let error = Arc::new(Mutex::new(None));
+        let fail = Arc::clone(&error);
+        std::thread::spawn(move || {
+            if let Err(e) = serve(&elf, config, &frames_rx, &steps_tx) {
+                *fail.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+            }
+        });
+        let robot = FirmwareRobot {
+            frames: frames_tx,
+            steps: steps_rx,
+            last: Step {
+                left_mm_s: 0.0,
+                right_mm_s: 0.0,
+                state: State::Wander,
+                sum: 0,
+                threat_x: None,
+            },
+            error: Arc::clone(&error),
+        };
+        (robot, error)
+    }
+}
+
+fn serve(
+    elf: &[u8],
+    config: Config,
+    frames: &Receiver<Frame>,
+    steps: &Sender<Step>,
+) -> Result<(), String> {
+    let period = config.camera.frame_cycles;
+    let slot = Arc::new(Mutex::new(vec![128u8; alvs_tasks::PIXELS]));
+    let camera = Arc::clone(&slot);
+    let source = Box::new(move |_| camera.lock().map(|f| f.clone()).unwrap_or_default());
+    let mut board = Board::new(elf, config, source).map_err(|e| e.to_string())?;
+    board.run_for(BOOT_CYCLES).map_err(|e| e.to_string())?;
+    let mut wheels = BoardModel::new();
+    let mut pending: Vec<u8> = Vec::new();
+    // the bottom board hears everything from power-on (the enable sequence comes at priming)
+    let (mut bytes_seen, mut text_seen) = (0, board.rtt(1).len());
+    let mut seen = (State::Wander, 0, None);
+    while let Ok(frame) = frames.recv() {
+        if let Ok(mut s) = slot.lock() {
+            s.copy_from_slice(&frame);
+        }
+        board.run_for(period).map_err(|e| e.to_string())?;
+        for &(_, b) in &board.uart_sent()[bytes_seen..] {
+            pending.push(b);
+            if b == motor::END {
+                // a malformed frame changes nothing, as on the bottom board
+                let _ = wheels.apply(&pending);
+                pending.clear();
+            }
+        }
+        bytes_seen = board.uart_sent().len();
+        let text = &board.rtt(1)[text_seen..];
+        if let Some(line) = text.lines().filter(|l| l.starts_with("F ")).last() {
+            if let Ok(r) = Record::parse_line(line) {
+                seen = (r.state, r.lplc2_sum, r.threat_x());
+            }
+        }
+        text_seen = board.rtt(1).len();
+        let (l, r) = wheels.wheel_powers();
+        let step = Step {
+            left_mm_s: f32::from(l) / motor::POWER_PER_MM_S,
+            right_mm_s: f32::from(r) / motor::POWER_PER_MM_S,
+            state: seen.0,
+            sum: seen.1,
+            threat_x: seen.2,
+        };
+        if steps.send(step).is_err() {
+            break;
+        }
+    }
+    Ok(())
+}
+
+impl Controller for FirmwareRobot {
+    fn name(&self) -> &'static str {
+        "firmware"
+    }
+
+    fn step(&mut self, frame: &Frame, _heading_deg: f32) -> Command {
+        let failed = self.error.lock().map_or(true, |e| e.is_some());
+        if !failed && self.frames.send(*frame).is_ok() {
+            if let Ok(step) = self.steps.recv() {
+                self.last = step;
+            }
+        } else {
+            // the board stopped: so do the wheels
+            self.last.left_mm_s = 0.0;
+            self.last.right_mm_s = 0.0;
+        }
+        let state = self.last.state;
+        Command {
+            left_mm_s: self.last.left_mm_s,
+            right_mm_s: self.last.right_mm_s,
+            state: state.name(),
+            // the firmware's FSM leaves wander on an alert
+            alert: state != State::Wander,
+            seen: Seen {
+                response: self.last.sum,
+                threat_x: self.last.threat_x,
+                fields: 0,
+                short_mode: false,
+            },
+        }
+    }
+}
+
+/// The outcome of [`evasion_trial`].
+pub struct Evasion {
+    pub result: alvs_host::experiments::encounter::EncounterResult,
+    /// Turned away from the obstacle (for one dead ahead: by at least 90° either way), the
+    /// criterion of `cargo alvs evasion`.
+    pub correct_side: bool,
+    /// The board's error, if it stopped.
+    pub error: Option<String>,
+}
+
+/// The evasion trial of `cargo alvs evasion` (obstacle from `bearing_deg` at 500 mm, 100 mm/s,
+/// realistic motors and camera) with the firmware as the tested robot's brain.
+pub fn evasion_trial(
+    elf: Vec<u8>,
+    config: Config,
+    bearing_deg: f64,
+    texture: alvs_host::arena::WallTexture,
+    seed: u64,
+) -> Evasion {
+    use alvs_host::experiments::encounter::{self, Encounter, Side, Threat};
+    use alvs_host::experiments::evasion::{DEFAULT_DISTANCE_MM, DEFAULT_SPEED_MM_S};
+    let (robot, error) = FirmwareRobot::new(elf, config);
+    let e = Encounter {
+        kind: alvs_host::arena::Kind::Alvs,
+        threats: vec![Threat {
+            bearing_deg,
+            distance_mm: DEFAULT_DISTANCE_MM,
+            speed_mm_s: DEFAULT_SPEED_MM_S,
+        }],
+        seed,
+        params: alvs_tasks::Params::ALVS,
+        fsm: alvs_tasks::model::fsm::FsmParams::default(),
+        texture,
+        noise: true,
+        trace: false,
+    };
+    let result = encounter::run_with(&e, Box::new(robot), &|_| {});
+    let correct_side = match Side::away_from(bearing_deg) {
+        Side::None => result.escape_turn_deg.abs() >= 90.0,
+        away => away == result.side(),
+    };
+    let error = error.lock().map_or(None, |e| e.clone());
+    Evasion {
+        result,
+        correct_side,
+        error,
+    }
+}
