@@ -2,7 +2,7 @@
 //! lines from the DMA ring stream into the network's retina under the [`Capture`] policy of
 //! `tasks::robot::camera`; at frame complete the network goes to the perception task.
 
-use alvs_tasks::robot::camera::{self, Capture, FrameEnd, Start};
+use alvs_tasks::robot::camera::{self, Backlog, Capture, FrameEnd, Start};
 use alvs_tasks::{Network, HEIGHT, WIDTH};
 use cortex_m::peripheral::DWT;
 
@@ -26,6 +26,8 @@ pub struct FrameIn {
     pub retina_cycles: u32,
     /// The ring half the DMA fills next (false = first).
     next_second: bool,
+    /// Rows of a frame that began while perception owned the network (late hand-off).
+    backlog: Backlog,
 }
 
 impl FrameIn {
@@ -37,6 +39,7 @@ impl FrameIn {
             network: None,
             retina_cycles: 0,
             next_second: false,
+            backlog: Backlog::new(),
         }
     }
 
@@ -51,6 +54,7 @@ impl FrameIn {
         self.dcmi.arm_dma();
         self.next_second = false;
         self.retina_cycles = 0;
+        self.backlog.clear();
         if self.network.is_none() {
             self.network = parked;
         }
@@ -82,18 +86,47 @@ impl FrameIn {
         }
     }
 
+    /// Late hand-off: perception parked the network while a frame waits; the frame is adopted
+    /// if the backlog holds all its rows so far, which then go into the retina first.
+    /// `parked` keeps the network otherwise.
+    pub fn offer(&mut self, parked: &mut Option<&'static mut Network>) {
+        if self.network.is_some() || parked.is_none() || !self.capture.waiting() {
+            return;
+        }
+        if !self.capture.adopt(self.backlog.complete()) {
+            return;
+        }
+        let t0 = DWT::cycle_count();
+        let mut network = parked.take();
+        if let Some(n) = network.as_deref_mut() {
+            for row in self.backlog.rows() {
+                // at most BACKLOG_ROWS < HEIGHT rows: cannot fail
+                let _ = n.push_row(row);
+            }
+        }
+        self.network = network;
+        self.backlog.clear();
+        self.retina_cycles = self
+            .retina_cycles
+            .wrapping_add(DWT::cycle_count().wrapping_sub(t0));
+    }
+
     fn stream(&mut self, second: bool) {
         let t0 = DWT::cycle_count();
         for i in 0..HALF_LINES {
-            if self.capture.line().is_none() {
+            let row = self.capture.line();
+            if row.is_none() && !self.capture.waiting() {
                 continue;
             }
             let mut y = [0u8; WIDTH];
             // a ring line is exactly LINE_BYTES and `y` WIDTH: cannot fail
             let _ = camera::luma_line(self.dcmi.line(second, i), &mut y);
-            if let Some(n) = self.network.as_deref_mut() {
+            match self.network.as_deref_mut() {
                 // the policy hands out at most HEIGHT rows a frame: cannot fail
-                let _ = n.push_row(&y);
+                Some(n) if row.is_some() => {
+                    let _ = n.push_row(&y);
+                }
+                _ => self.backlog.push(&y),
             }
         }
         self.retina_cycles = self

@@ -202,10 +202,14 @@ mod app {
         }
     }
 
-    /// DMA half/complete: two more lines are in the ring; they stream into the retina.
-    #[task(binds = DMA2_STREAM1, priority = 4, shared = [frames])]
+    /// DMA half/complete: two more lines are in the ring; they stream into the retina (or the
+    /// backlog, while perception still owns the network: taken back here once it is parked).
+    #[task(binds = DMA2_STREAM1, priority = 4, shared = [frames, parked])]
     fn dma_lines(cx: dma_lines::Context) {
-        cx.shared.frames.drain();
+        let frames = cx.shared.frames;
+        let mut parked = cx.shared.parked;
+        parked.lock(|p| frames.offer(p));
+        frames.drain();
     }
 
     /// DCMI: overrun, sync error, frame complete (→ perception), VSYNC (→ next frame).
@@ -222,7 +226,9 @@ mod app {
         if e.sync_error {
             frames.capture.sync_error();
         }
+        let mut parked = cx.shared.parked;
         if e.frame {
+            parked.lock(|p| frames.offer(p));
             let (end, network) = frames.frame_complete();
             if let (FrameEnd::Deliver { .. }, Some(network)) = (end, network) {
                 if let Err((network, _)) = perception::spawn(network, frames.retina_cycles) {
@@ -236,7 +242,6 @@ mod app {
             counters.lock(|c| *c = totals);
         }
         if e.vsync {
-            let mut parked = cx.shared.parked;
             let start = frames.frame_start(parked.lock(|p| p.take()));
             let mut reset = cx.shared.reset_requested;
             if start.accepted && reset.lock(core::mem::take) {

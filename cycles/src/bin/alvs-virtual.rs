@@ -110,8 +110,10 @@ fn frames(args: &Args) -> Result<Vec<Vec<u8>>, String> {
 }
 
 fn config(args: &Args, blanking: f64) -> Result<Config, String> {
-    if !(0.0..0.9).contains(&blanking) {
-        return Err(format!("--blanking {blanking}: must be in 0..0.9"));
+    if !(0.01..0.9).contains(&blanking) {
+        return Err(format!(
+            "--blanking {blanking}: must be in 0.01..0.9 (VSYNC needs a pulse)"
+        ));
     }
     if args.lines < 72 {
         return Err(format!(
@@ -140,6 +142,9 @@ fn board(elf: &[u8], frames: &[Vec<u8>], config: Config) -> Result<Board, String
     Board::new(elf, config, source).map_err(|e| e.to_string())
 }
 
+/// Time by which `init` has finished (boot, self-benchmark, camera set-up: ≈ 0.2 s).
+const BOOTED_S: f64 = 0.5;
+
 fn cycles(seconds: f64) -> u64 {
     (seconds.max(0.0) * CLOCK_HZ as f64) as u64
 }
@@ -163,6 +168,16 @@ fn run(args: &Args) -> Result<(), String> {
         b.stall_camera(cycles(at)..cycles(at + args.stall_for));
     }
     let end = cycles(args.seconds);
+    // the boot's stack apart from the running tasks': repaint once init is long done
+    let mut boot_stack = None;
+    let booted = cycles(BOOTED_S);
+    if end > booted && args.fault_at.is_none_or(|t| cycles(t) > booted) {
+        b.run_until(booted).map_err(|e| e.to_string())?;
+        boot_stack = Some(b.stack_high_water().map_err(|e| e.to_string())?);
+        while !b.repaint_stack().map_err(|e| e.to_string())? {
+            b.run_for(1_000).map_err(|e| e.to_string())?;
+        }
+    }
     if let Some(at) = args.fault_at.filter(|&t| cycles(t) < end) {
         b.run_until(cycles(at)).map_err(|e| e.to_string())?;
         b.inject_undefined_instruction()
@@ -182,7 +197,9 @@ fn run(args: &Args) -> Result<(), String> {
         println!("{l}");
     }
     println!("── timing ──");
-    print!("{}", Report::of(&b));
+    let mut report = Report::of(&b);
+    report.boot_stack_bytes = boot_stack.filter(|_| b.log().resets.is_empty());
+    print!("{report}");
     Ok(())
 }
 
@@ -190,7 +207,9 @@ fn run(args: &Args) -> Result<(), String> {
 fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
     use alvs_cycles::system::closed_loop::{evasion_trial, Evasion};
     if !(-35.0..=35.0).contains(&bearing) {
-        return Err(format!("--evasion {bearing}: the bearing must be in -35..=35 degrees"));
+        return Err(format!(
+            "--evasion {bearing}: the bearing must be in -35..=35 degrees"
+        ));
     }
     let texture = alvs_host::experiments::texture(&args.background).map_err(|e| e.to_string())?;
     let Evasion {

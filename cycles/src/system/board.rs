@@ -32,6 +32,8 @@ const RETURN_CYCLES: u64 = 12;
 const TAIL_CHAIN_CYCLES: u64 = 6;
 /// Exception return values live at the top of the address space (ARMv7-M ARM B1.5.8).
 const EXC_RETURN_PAGE: u32 = 0xFFFF_F000;
+/// The pattern the stack is painted with at power-on.
+const STACK_PAINT: u32 = 0xDEAD_BEEF;
 
 /// The camera's frame: 99x72 grey levels.
 pub const WIDTH: usize = alvs_tasks::WIDTH;
@@ -196,6 +198,15 @@ impl Board {
             }
             uc.mem_write(c.addr.into(), &c.bytes).map_err(emu)?;
         }
+        // the stack (all of CCM, memory.x) painted, for the high-water mark
+        let paint: Vec<u8> = STACK_PAINT
+            .to_le_bytes()
+            .iter()
+            .copied()
+            .cycle()
+            .take((CCM.end - CCM.start) as usize)
+            .collect();
+        uc.mem_write(CCM.start.into(), &paint).map_err(emu)?;
         let mut board = Board {
             uc,
             symbols: image.symbols,
@@ -259,6 +270,41 @@ impl Board {
     /// frame: VSYNC early).
     pub fn tear_frame(&mut self, frame: u64, lines: u16) {
         self.uc.get_data_mut().torn.push((frame, lines));
+    }
+
+    /// The deepest the stack (CCM, painted at power-on) has been since, in bytes below its top:
+    /// every task and interrupt nesting included.
+    pub fn stack_high_water(&self) -> Result<u32, Error> {
+        let len = (CCM.end - CCM.start) as usize;
+        let bytes = self.read(CCM.start, len)?;
+        let untouched = bytes
+            .chunks_exact(4)
+            .position(|w| w != STACK_PAINT.to_le_bytes())
+            .map_or(len, |i| 4 * i);
+        Ok((len - untouched) as u32)
+    }
+
+    /// Paints the free stack again (below SP; only in Thread mode, where nothing below SP is
+    /// live), so that [`Board::stack_high_water`] measures from here on: e.g. the running
+    /// tasks without the boot's self-benchmark. Returns false (and paints nothing) in Handler
+    /// mode.
+    pub fn repaint_stack(&mut self) -> Result<bool, Error> {
+        if self.uc.get_data().p.nvic.current() != 0 {
+            return Ok(false);
+        }
+        let sp = self.reg(RegisterARM::SP)? & !3;
+        if !(CCM.start..=CCM.end).contains(&sp) {
+            return Ok(false);
+        }
+        let paint: Vec<u8> = STACK_PAINT
+            .to_le_bytes()
+            .iter()
+            .copied()
+            .cycle()
+            .take((sp - CCM.start) as usize)
+            .collect();
+        self.uc.mem_write(CCM.start.into(), &paint).map_err(emu)?;
+        Ok(true)
     }
 
     /// Reads memory (after a run, for tests).

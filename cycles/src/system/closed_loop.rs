@@ -98,7 +98,7 @@ fn serve(
         }
         bytes_seen = board.uart_sent().len();
         let text = &board.rtt(1)[text_seen..];
-        if let Some(line) = text.lines().filter(|l| l.starts_with("F ")).last() {
+        if let Some(line) = text.lines().rfind(|l| l.starts_with("F ")) {
             if let Ok(r) = Record::parse_line(line) {
                 seen = (r.state, r.lplc2_sum, r.threat_x());
             }

@@ -3,8 +3,8 @@
 //! SysTick, DWT, RTT) driven by an event queue in CPU cycles. See [`Board`].
 
 mod board;
-pub mod closed_loop;
 pub mod bus;
+pub mod closed_loop;
 pub mod dcmi;
 pub mod dma;
 pub mod events;

@@ -31,6 +31,10 @@ pub struct Report {
     pub latency_ms: Vec<f64>,
     pub load: Vec<Load>,
     pub asleep: u64,
+    /// Deepest stack since power-on, or since [`Board::repaint_stack`] (then `boot_stack_bytes`
+    /// holds the boot's), bytes, interrupts nesting on tasks included.
+    pub stack_bytes: u32,
+    pub boot_stack_bytes: Option<u32>,
     pub overruns: u64,
     pub resets: Vec<(u64, ResetCause)>,
     /// Totals of the firmware's own once-a-second summary lines.
@@ -102,6 +106,8 @@ impl Report {
             latency_ms,
             load,
             asleep: log.asleep,
+            stack_bytes: board.stack_high_water().unwrap_or(0),
+            boot_stack_bytes: None,
             overruns: board.dcmi_overruns(),
             resets: log.resets.clone(),
             dropped: summary_total(text, "dropped"),
@@ -141,6 +147,18 @@ impl fmt::Display for Report {
             self.misses,
             self.overruns
         )?;
+        match self.boot_stack_bytes {
+            Some(boot) => writeln!(
+                f,
+                "stack: {} B at its deepest while running (tasks and nested interrupts), {boot} B at boot (init and its self-benchmark)",
+                self.stack_bytes
+            )?,
+            None => writeln!(
+                f,
+                "stack: {} B at its deepest (every task and nested interrupt since power-on)",
+                self.stack_bytes
+            )?,
+        }
         match self.latency() {
             Some((min, mean, max)) => writeln!(
                 f,

@@ -22,8 +22,15 @@
 //!        │                                                 yes ─▶ Deliver: perception owns
 //!        │                                                        the network, runs, parks it
 //!        └──────── parked again ◀──────────────────────────────────────┘
-//!   VSYNC while perception still owns it ──▶ skipped: no row goes anywhere ──▶ Dropped
+//!   VSYNC while perception still owns it ──▶ waiting: rows into the backlog ─┬─▶ parked before
+//!        the backlog is full: adopted, backlog rows first, then stream ◀───┘   (late hand-off)
+//!        otherwise ──▶ no row goes anywhere ──▶ Dropped
 //! ```
+//!
+//! The late hand-off: the sensor's VSYNC (start of blanking) may come right after frame complete
+//! when the crop window ends near the bottom of what it sends; a frame that begins while
+//! perception runs keeps its first [`BACKLOG_ROWS`] rows in a [`Backlog`] and is adopted when
+//! perception parks the network in time (docs/firmware.md, "Frame hand-off").
 //!
 //! [`Capture`] is that policy as a pure state machine (no pixels): it says which row each line
 //! is, whether a frame is delivered, dropped (perception was still busy when it began) or
@@ -143,6 +150,65 @@ fn extract(off: usize, yuv: &[u8], y: &mut [u8]) {
         if let Some(&v) = px.get(off) {
             *out = v;
         }
+    }
+}
+
+/// Rows a frame may send before perception gives the network back (late hand-off): 16 rows of
+/// 99 bytes, 1.6 KB. With a sensor that sends only the 72 window lines at 5 % blanking that
+/// is 8.7 ms after VSYNC, against ≤ 5.2 ms of perception after frame complete
+/// (docs/firmware.md, "Frame hand-off").
+pub const BACKLOG_ROWS: usize = 16;
+
+/// The rows of a waiting frame (see [`Capture::waiting`]), in order, until the network is back.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Backlog {
+    rows: [[u8; WIDTH]; BACKLOG_ROWS],
+    len: usize,
+    overflow: bool,
+}
+
+impl Default for Backlog {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Backlog {
+    /// Empty.
+    pub const fn new() -> Self {
+        Backlog {
+            rows: [[0; WIDTH]; BACKLOG_ROWS],
+            len: 0,
+            overflow: false,
+        }
+    }
+
+    /// Empty again (a new frame).
+    pub fn clear(&mut self) {
+        self.len = 0;
+        self.overflow = false;
+    }
+
+    /// Keeps a row; a row that does not fit marks the backlog overflowed (its frame can no
+    /// longer be adopted).
+    pub fn push(&mut self, row: &[u8; WIDTH]) {
+        match self.rows.get_mut(self.len) {
+            Some(slot) => {
+                *slot = *row;
+                self.len += 1;
+            }
+            None => self.overflow = true,
+        }
+    }
+
+    /// Every row of the frame so far is here.
+    pub fn complete(&self) -> bool {
+        !self.overflow
+    }
+
+    /// The rows kept, oldest first.
+    pub fn rows(&self) -> &[[u8; WIDTH]] {
+        &self.rows[..self.len.min(BACKLOG_ROWS)]
     }
 }
 
@@ -291,6 +357,25 @@ impl Capture {
         let row = self.rows;
         self.rows = self.rows.saturating_add(1);
         (self.accepted && usize::from(row) < HEIGHT).then_some(row)
+    }
+
+    /// The frame in progress began while perception owned the network: its rows wait in the
+    /// [`Backlog`] for [`Capture::adopt`].
+    pub fn waiting(&self) -> bool {
+        self.in_frame && !self.accepted
+    }
+
+    /// Perception parked the network while a frame is waiting: the frame is taken if the backlog
+    /// holds every row so far (`backlog_complete`); the caller then pushes the backlog's rows
+    /// into the network, oldest first, before any new one. Returns whether it was taken.
+    pub fn adopt(&mut self, backlog_complete: bool) -> bool {
+        let taken = self.waiting()
+            && backlog_complete
+            && usize::from(self.rows) <= BACKLOG_ROWS.min(HEIGHT);
+        if taken {
+            self.accepted = true;
+        }
+        taken
     }
 
     /// DCMI overrun: counted; the frame in progress is invalid.
@@ -521,6 +606,45 @@ mod tests {
         assert_eq!(c.counters(), counters(5, 0, 0, 5, 0, 0));
     }
 
+    #[test]
+    fn a_waiting_frame_is_adopted_while_its_backlog_holds_every_row() {
+        let mut c = Capture::new();
+        let mut b = Backlog::new();
+        assert!(!c.frame_start(false).accepted);
+        for r in 0..10u8 {
+            assert_eq!(c.line(), None);
+            assert!(c.waiting());
+            b.push(&[r; WIDTH]);
+        }
+        assert!(c.adopt(b.complete()));
+        assert!(!c.waiting());
+        assert_eq!(b.rows().len(), 10);
+        assert_eq!(b.rows()[9], [9; WIDTH]);
+        for r in 10..HEIGHT as u16 {
+            assert_eq!(
+                c.line(),
+                Some(r),
+                "the stream goes on after the backlog's rows"
+            );
+        }
+        assert_eq!(c.frame_complete(), FrameEnd::Deliver { seq: 0 });
+
+        // one row too many: the frame can only be dropped
+        c.frame_start(false);
+        b.clear();
+        for _ in 0..=BACKLOG_ROWS {
+            c.line();
+            b.push(&[0; WIDTH]);
+        }
+        assert!(!b.complete());
+        assert!(!c.adopt(b.complete()));
+        assert!(!c.adopt(true), "more rows than a backlog holds");
+        for _ in BACKLOG_ROWS + 1..HEIGHT {
+            assert_eq!(c.line(), None);
+        }
+        assert_eq!(c.frame_complete(), FrameEnd::Dropped { seq: 1 });
+    }
+
     #[derive(Debug, Clone, Copy)]
     enum Ev {
         Start,
@@ -530,6 +654,7 @@ mod tests {
         Overrun,
         SyncError,
         Park,
+        Adopt,
     }
 
     fn ev() -> impl Strategy<Value = Ev> {
@@ -541,6 +666,7 @@ mod tests {
             1 => Just(Ev::Overrun),
             1 => Just(Ev::SyncError),
             3 => Just(Ev::Park),
+            2 => Just(Ev::Adopt),
         ]
     }
 
@@ -553,12 +679,15 @@ mod tests {
             let mut streamed: Option<u16> = None;
             let mut parked = true;
             let mut last_seq: Option<u32> = None;
+            // rows of a waiting frame, as the backlog holds them (None: overflowed)
+            let mut held: Option<u16> = None;
             for e in evs {
                 match e {
                     Ev::Start => {
                         let s = c.frame_start(parked);
                         prop_assert_eq!(s.accepted, parked);
                         streamed = s.accepted.then_some(0);
+                        held = Some(0);
                     }
                     Ev::Line | Ev::Lines => {
                         let n = if matches!(e, Ev::Line) { 1 } else { HEIGHT };
@@ -569,6 +698,10 @@ mod tests {
                                 prop_assert!(parked);
                                 prop_assert_eq!(Some(row), streamed);
                                 streamed = Some(row + 1);
+                            } else if c.waiting() {
+                                held = held
+                                    .map(|h| h + 1)
+                                    .filter(|&h| usize::from(h) <= BACKLOG_ROWS);
                             }
                         }
                     }
@@ -580,11 +713,21 @@ mod tests {
                             parked = false;
                             streamed = None;
                         }
-                        FrameEnd::Dropped { .. } | FrameEnd::Invalid(_) => streamed = None,
+                        FrameEnd::Dropped { .. } | FrameEnd::Invalid(_) => {
+                            streamed = None;
+                            held = None;
+                        }
                     },
                     Ev::Overrun => c.overrun(),
                     Ev::SyncError => c.sync_error(),
                     Ev::Park => parked = true,
+                    Ev::Adopt => {
+                        if parked && c.adopt(held.is_some()) {
+                            // the backlog's rows go in first: the stream continues after them
+                            prop_assert_eq!(Some(c.rows()), held);
+                            streamed = held;
+                        }
+                    }
                 }
                 let k = c.counters();
                 prop_assert_eq!(k.delivered + k.dropped + k.invalidated, k.completed);
