@@ -154,7 +154,26 @@ fn emu(e: unicorn_engine::uc_error) -> Error {
 impl Board {
     /// Loads the firmware ELF and powers the board on (the CPU at its reset vector).
     pub fn new(elf_bytes: &[u8], config: Config, frames: FrameSource) -> Result<Board, Error> {
-        let image = elf::parse(elf_bytes)?;
+        Board::with_image(elf::parse(elf_bytes)?, config, frames)
+    }
+
+    /// A board whose flash holds `flash` from 0x0800_0000 (vector table first), for tests of
+    /// the core with hand-written code.
+    pub fn from_flash(flash: &[u8], config: Config, frames: FrameSource) -> Result<Board, Error> {
+        let image = elf::Image {
+            chunks: vec![elf::Chunk {
+                what: "flash".into(),
+                addr: FLASH.start,
+                bytes: flash.to_vec(),
+                zeros: 0,
+            }],
+            symbols: HashMap::new(),
+            sections: Vec::new(),
+        };
+        Board::with_image(image, config, frames)
+    }
+
+    fn with_image(image: elf::Image, config: Config, frames: FrameSource) -> Result<Board, Error> {
         let rtt_block = image.symbols.get("_SEGGER_RTT").map_or(0, |s| s.value);
         let sys = Sys {
             decoder: Decoder::new().map_err(Error::Emulator)?,
