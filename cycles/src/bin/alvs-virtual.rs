@@ -142,6 +142,23 @@ fn board(elf: &[u8], frames: &[Vec<u8>], config: Config) -> Result<Board, String
     Board::new(elf, config, source).map_err(|e| e.to_string())
 }
 
+/// The firmware's RTIC tasks behind each handler (src/main.rs: the bound tasks, and the
+/// dispatchers of the software tasks by priority).
+fn tasks_of(handler: &str) -> Option<&'static str> {
+    Some(match handler {
+        "Thread" => "init, idle",
+        "UART4" => "uart4",
+        "DMA2_STREAM1" => "dma_lines",
+        "DCMI" => "dcmi",
+        "SPI4" => "priority 1: telemetry, summary",
+        "SPI5" => "priority 2: perception",
+        "SPI6" => "priority 3: motor_control, supervisor",
+        "SysTick" => "monotonic timer",
+        "HardFault" => "fault: stop motors",
+        _ => return None,
+    })
+}
+
 /// Time by which `init` has finished (boot, self-benchmark, camera set-up: ≈ 0.2 s).
 const BOOTED_S: f64 = 0.5;
 
@@ -199,6 +216,11 @@ fn run(args: &Args) -> Result<(), String> {
     println!("── timing ──");
     let mut report = Report::of(&b);
     report.boot_stack_bytes = boot_stack.filter(|_| b.log().resets.is_empty());
+    for l in &mut report.load {
+        if let Some(tasks) = tasks_of(&l.name) {
+            l.name = format!("{} ({tasks})", l.name);
+        }
+    }
     print!("{report}");
     Ok(())
 }

@@ -26,7 +26,7 @@ pub struct Report {
     /// Telemetry records (one per frame perception finished).
     pub frames_processed: u64,
     /// Frame complete → first byte written to UART4's DR after it, ms, for the frames after the
-    /// priming ones that found the link idle (every earlier byte out on the wire) and whose motor control sent
+    /// priming ones (after boot and after a stall) that found the link idle (every earlier byte out on the wire) and whose motor control sent
     /// something before the next frame completed.
     pub latency_ms: Vec<f64>,
     pub load: Vec<Load>,
@@ -62,10 +62,17 @@ impl Report {
         let sent = board.uart_sent();
         let frames = &log.frames_captured;
         let mut latency_ms = Vec::new();
-        // the first frames after boot only prime the model (their step is a fraction of a
-        // frame's): not the escape path's latency
+        // the first frames after boot or after a stall only prime the model (their step is a
+        // fraction of a frame's): not the escape path's latency
         let primed = alvs_tasks::robot::health::PRIME_FRAMES as usize;
-        for (i, &(t, _)) in frames.iter().enumerate().skip(primed) {
+        let stall = u64::from(alvs_tasks::robot::health::STALL_MS) * CLOCK_HZ / 1000;
+        let mut since_gap = 0;
+        for (i, &(t, _)) in frames.iter().enumerate() {
+            let gap = i == 0 || t - frames[i - 1].0 >= stall;
+            since_gap = if gap { 1 } else { since_gap + 1 };
+            if since_gap <= primed {
+                continue;
+            }
             let next = frames.get(i + 1).map_or(u64::MAX, |f| f.0);
             let first = writes.partition_point(|&(w, _)| w < t);
             let out = sent.partition_point(|&(s, _)| s <= t);
@@ -179,7 +186,7 @@ impl fmt::Display for Report {
         for l in &self.load {
             writeln!(
                 f,
-                "  {:>3} {:<14} {:>12} cycles {:>6.2} %",
+                "  {:>3} {:<48} {:>12} cycles {:>6.2} %",
                 l.exception,
                 l.name,
                 l.cycles,
@@ -188,7 +195,7 @@ impl fmt::Display for Report {
         }
         writeln!(
             f,
-            "      {:<14} {:>12} cycles {:>6.2} %",
+            "      {:<48} {:>12} cycles {:>6.2} %",
             "asleep (WFI)",
             self.asleep,
             pct(self.asleep)
