@@ -20,6 +20,7 @@
 pub mod budget;
 mod decode;
 pub mod elf;
+mod emu;
 mod error;
 mod machine;
 pub mod memory;

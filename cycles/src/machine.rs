@@ -4,14 +4,13 @@
 use std::collections::HashMap;
 use std::ops::Range;
 
-use unicorn_engine::{Arch, ArmCpuModel, HookType, MemType, Mode, Prot, RegisterARM, Unicorn};
+use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
 
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
+use crate::emu::{cortex_m4, decode_at, emu, RegisterPage};
 use crate::error::{Access, Error};
-use crate::memory::{
-    self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, FLASH, PPB, SCB_CPACR, SCB_CPUID, SRAM,
-};
+use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, PPB, SCB_CPACR, SCB_CPUID, SRAM};
 use crate::ram::RamReport;
 use crate::timing::{Class, ClassStat, FlashModel, Timing};
 
@@ -89,7 +88,7 @@ struct State {
     stamps: Vec<Stamp>,
     fault: Option<Fault>,
     /// The DWT page's registers (other than CYCCNT) as plain memory.
-    dwt: Vec<u8>,
+    dwt: RegisterPage,
     /// Pessimistic cycles of earlier calls: CYCCNT free-runs across calls, like the hardware.
     cycles_before: u64,
     /// Value written to CYCCNT minus the modelled count at the write.
@@ -119,10 +118,6 @@ pub struct Machine {
 /// runaway loop fails a test in about a second instead of hanging it.
 pub const DEFAULT_LIMIT: u64 = 50_000_000;
 
-fn emu(e: unicorn_engine::uc_error) -> Error {
-    Error::Emulator(format!("{e:?}"))
-}
-
 const CORE_REGS: [RegisterARM; 13] = [
     RegisterARM::R0,
     RegisterARM::R1,
@@ -148,23 +143,12 @@ impl Machine {
             timing: Timing::new(FlashModel::default()),
             stamps: Vec::new(),
             fault: None,
-            dwt: vec![0; 0x1000],
+            dwt: RegisterPage::new(0x1000),
             cycles_before: 0,
             cyccnt_offset: 0,
             profile: None,
         };
-        let mut uc =
-            Unicorn::new_with_data(Arch::ARM, Mode::THUMB | Mode::MCLASS, state).map_err(emu)?;
-        uc.ctl_set_cpu_model(ArmCpuModel::CORTEX_M4 as i32)
-            .map_err(emu)?;
-
-        let len = |r: &Range<u32>| u64::from(r.end - r.start);
-        uc.mem_map(FLASH.start.into(), len(&FLASH), Prot::READ | Prot::EXEC)
-            .map_err(emu)?;
-        uc.mem_map(CCM.start.into(), len(&CCM), Prot::READ | Prot::WRITE)
-            .map_err(emu)?;
-        uc.mem_map(SRAM.start.into(), len(&SRAM), Prot::ALL)
-            .map_err(emu)?;
+        let mut uc = cortex_m4(state)?;
         uc.mem_map(EXIT.into(), 0x1000, Prot::READ | Prot::EXEC)
             .map_err(emu)?;
         // The PPB as RAM around the DWT page, which is served by callbacks.
@@ -191,11 +175,7 @@ impl Machine {
                     });
                     return u64::from(st.cyccnt());
                 }
-                let at = offset as usize;
-                let mut v = [0u8; 8];
-                let n = size.min(8).min(st.dwt.len().saturating_sub(at));
-                v[..n].copy_from_slice(&st.dwt[at..at + n]);
-                u64::from_le_bytes(v)
+                st.dwt.read(offset, size)
             }),
             Some(
                 |uc: &mut Unicorn<'_, State>, offset: u64, size: usize, value: u64| {
@@ -205,9 +185,7 @@ impl Machine {
                         st.cyccnt_offset = (value as u32).wrapping_sub(st.cyccnt());
                         return;
                     }
-                    let at = offset as usize;
-                    let n = size.min(8).min(st.dwt.len().saturating_sub(at));
-                    st.dwt[at..at + n].copy_from_slice(&value.to_le_bytes()[..n]);
+                    st.dwt.write(offset, size, value);
                 },
             ),
         )
@@ -220,16 +198,7 @@ impl Machine {
         uc.add_code_hook(1, 0, |uc: &mut Unicorn<'_, State>, addr: u64, size: u32| {
             let pc = addr as u32;
             if !uc.get_data().decoded.contains_key(&pc) {
-                // Up to 18 bytes: an IT instruction and the four it covers.
-                let mut buf = [0u8; 18];
-                let bytes = match uc.mem_read(addr, &mut buf) {
-                    Ok(()) => &buf[..],
-                    Err(_) => match uc.mem_read(addr, &mut buf[..size as usize]) {
-                        Ok(()) => &buf[..size as usize],
-                        Err(_) => &[][..],
-                    },
-                };
-                let d = uc.get_data().decoder.decode(pc, bytes, size as u8);
+                let d = decode_at(uc, &uc.get_data().decoder, addr, size);
                 uc.get_data_mut().decoded.insert(pc, d);
             }
             let st = uc.get_data_mut();

@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use unicorn_engine::{Arch, ArmCpuModel, HookType, MemType, Mode, Prot, RegisterARM, Unicorn};
+use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
 
 use super::bus::{Peripherals, DCMI_CHANNEL, DCMI_STREAM, PERIPH, PERIPH_BB, SCS_PAGE};
 use super::dcmi::{self, CameraTiming, DCMI_BASE};
@@ -22,6 +22,7 @@ use super::rtt::{self, Rtt};
 use super::uart::UART4_BASE;
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
+use crate::emu::{cortex_m4, decode_at, emu, RegisterPage};
 use crate::error::{Access, Error};
 use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, FLASH, SRAM};
 use crate::timing::{FlashModel, Timing};
@@ -131,7 +132,7 @@ struct Sys {
     torn: Vec<(u64, u16)>,
     /// Cycle of the last load accounting.
     accounted: u64,
-    dwt: Vec<u8>,
+    dwt: RegisterPage,
 }
 
 impl Sys {
@@ -145,10 +146,6 @@ pub struct Board {
     uc: Unicorn<'static, Sys>,
     symbols: HashMap<String, Symbol>,
     sleeping: bool,
-}
-
-fn emu(e: unicorn_engine::uc_error) -> Error {
-    Error::Emulator(format!("{e:?}"))
 }
 
 impl Board {
@@ -198,12 +195,9 @@ impl Board {
             dma_holds: Vec::new(),
             torn: Vec::new(),
             accounted: 0,
-            dwt: vec![0; 0x1000],
+            dwt: RegisterPage::new(0x1000),
         };
-        let mut uc =
-            Unicorn::new_with_data(Arch::ARM, Mode::THUMB | Mode::MCLASS, sys).map_err(emu)?;
-        uc.ctl_set_cpu_model(ArmCpuModel::CORTEX_M4 as i32)
-            .map_err(emu)?;
+        let mut uc = cortex_m4(sys)?;
         map_memory(&mut uc)?;
         add_hooks(&mut uc)?;
         for c in &image.chunks {
@@ -856,14 +850,8 @@ impl rtt::Memory for UcMemory<'_, '_> {
     }
 }
 
+/// The board's memory map beyond flash, CCM and SRAM.
 fn map_memory(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
-    let len = |r: &std::ops::Range<u32>| u64::from(r.end - r.start);
-    uc.mem_map(FLASH.start.into(), len(&FLASH), Prot::READ | Prot::EXEC)
-        .map_err(emu)?;
-    uc.mem_map(CCM.start.into(), len(&CCM), Prot::READ | Prot::WRITE)
-        .map_err(emu)?;
-    uc.mem_map(SRAM.start.into(), len(&SRAM), Prot::ALL)
-        .map_err(emu)?;
     // ST's system memory and OTP/UID area: read-only zeros
     uc.mem_map(0x1FFF_0000, 0x1_0000, Prot::READ).map_err(emu)?;
     uc.mem_map(EXC_RETURN_PAGE.into(), 0x1000, Prot::READ | Prot::EXEC)
@@ -892,18 +880,11 @@ fn map_memory(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
             if offset == u64::from(DWT_CYCCNT - DWT_PAGE) {
                 return st.now() & 0xFFFF_FFFF;
             }
-            let at = offset as usize;
-            let mut v = [0u8; 8];
-            let n = size.min(8).min(st.dwt.len().saturating_sub(at));
-            v[..n].copy_from_slice(&st.dwt[at..at + n]);
-            u64::from_le_bytes(v)
+            st.dwt.read(offset, size)
         }),
         Some(
             |uc: &mut Unicorn<'_, Sys>, offset: u64, size: usize, value: u64| {
-                let st = uc.get_data_mut();
-                let at = offset as usize;
-                let n = size.min(8).min(st.dwt.len().saturating_sub(at));
-                st.dwt[at..at + n].copy_from_slice(&value.to_le_bytes()[..n]);
+                uc.get_data_mut().dwt.write(offset, size, value);
             },
         ),
     )
@@ -998,16 +979,7 @@ fn add_hooks(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
     uc.add_code_hook(1, 0, |uc: &mut Unicorn<'_, Sys>, addr: u64, size: u32| {
         let pc = addr as u32;
         if !uc.get_data().decoded.contains_key(&pc) {
-            let mut buf = [0u8; 18];
-            let bytes = match uc.mem_read(addr, &mut buf) {
-                Ok(()) => &buf[..],
-                Err(_) => match uc.mem_read(addr, &mut buf[..size as usize]) {
-                    Ok(()) => &buf[..size as usize],
-                    Err(_) => &[][..],
-                },
-            };
-            let st = uc.get_data_mut();
-            let d = st.decoder.decode(pc, bytes, size as u8);
+            let d = decode_at(uc, &uc.get_data().decoder, addr, size);
             let text = d.text();
             let kind = if text.starts_with("wfi") || text.starts_with("wfe") {
                 Kind::Sleep
@@ -1016,7 +988,7 @@ fn add_hooks(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
             } else {
                 Kind::Plain
             };
-            st.decoded.insert(pc, (d, kind));
+            uc.get_data_mut().decoded.insert(pc, (d, kind));
         }
         let st = uc.get_data_mut();
         let Some(&(d, kind)) = st.decoded.get(&pc) else {
