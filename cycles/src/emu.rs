@@ -30,6 +30,28 @@ pub fn cortex_m4<D>(data: D) -> Result<Unicorn<'static, D>, Error> {
     Ok(uc)
 }
 
+/// Loads an ELF image's chunks at their addresses (zero-filled parts included); a chunk outside
+/// flash, CCM and SRAM is an error.
+pub fn load<D>(uc: &mut Unicorn<'_, D>, chunks: &[crate::elf::Chunk]) -> Result<(), Error> {
+    for c in chunks {
+        let len = c.bytes.len() as u32 + c.zeros;
+        if !crate::memory::loadable(c.addr, len) {
+            return Err(Error::Load {
+                what: c.what.clone(),
+                addr: c.addr,
+                len,
+            });
+        }
+        uc.mem_write(c.addr.into(), &c.bytes).map_err(emu)?;
+        if c.zeros > 0 {
+            let end = c.addr + c.bytes.len() as u32;
+            uc.mem_write(end.into(), &vec![0; c.zeros as usize])
+                .map_err(emu)?;
+        }
+    }
+    Ok(())
+}
+
 /// Decodes the instruction at `addr` (`size` bytes as unicorn reports it), reading up to 18
 /// bytes: an IT instruction and the four it covers.
 pub fn decode_at<D>(uc: &Unicorn<'_, D>, decoder: &Decoder, addr: u64, size: u32) -> Decoded {

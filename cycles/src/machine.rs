@@ -8,7 +8,7 @@ use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
 
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
-use crate::emu::{cortex_m4, decode_at, emu, RegisterPage};
+use crate::emu::{cortex_m4, decode_at, emu, load, RegisterPage};
 use crate::error::{Access, Error};
 use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, PPB, SCB_CPACR, SCB_CPUID, SRAM};
 use crate::ram::RamReport;
@@ -269,20 +269,7 @@ impl Machine {
     pub fn from_elf(bytes: &[u8]) -> Result<Machine, Error> {
         let image = elf::parse(bytes)?;
         let mut m = Machine::new()?;
-        for c in &image.chunks {
-            let len = c.bytes.len() as u32 + c.zeros;
-            if !memory::loadable(c.addr, len) {
-                return Err(Error::Load {
-                    what: c.what.clone(),
-                    addr: c.addr,
-                    len,
-                });
-            }
-            m.write(c.addr, &c.bytes)?;
-            if c.zeros > 0 {
-                m.write(c.addr + c.bytes.len() as u32, &vec![0; c.zeros as usize])?;
-            }
-        }
+        load(&mut m.uc, &image.chunks)?;
         m.symbols = image.symbols;
         let top = m.symbols.get("_stack_start").map(|s| s.value);
         if let Some(top) = top {

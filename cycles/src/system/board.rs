@@ -22,9 +22,9 @@ use super::rtt::{self, Rtt};
 use super::uart::UART4_BASE;
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
-use crate::emu::{cortex_m4, decode_at, emu, RegisterPage};
+use crate::emu::{cortex_m4, decode_at, emu, load, RegisterPage};
 use crate::error::{Access, Error};
-use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, FLASH, SRAM};
+use crate::memory::{CCM, DWT_CYCCNT, DWT_PAGE, FLASH, SRAM};
 use crate::timing::{FlashModel, Timing};
 
 /// Cortex-M4 exception entry and return latency, and a tail-chain (ARM DDI 0439B 3.3.1).
@@ -200,17 +200,7 @@ impl Board {
         let mut uc = cortex_m4(sys)?;
         map_memory(&mut uc)?;
         add_hooks(&mut uc)?;
-        for c in &image.chunks {
-            let len = c.bytes.len() as u32 + c.zeros;
-            if !memory::loadable(c.addr, len) {
-                return Err(Error::Load {
-                    what: c.what.clone(),
-                    addr: c.addr,
-                    len,
-                });
-            }
-            uc.mem_write(c.addr.into(), &c.bytes).map_err(emu)?;
-        }
+        load(&mut uc, &image.chunks)?;
         // the stack (all of CCM, memory.x) painted, for the high-water mark
         let paint: Vec<u8> = STACK_PAINT
             .to_le_bytes()
