@@ -56,6 +56,9 @@ struct Args {
     /// Wall texture of the evasion arena (as `cargo alvs evasion --background`).
     #[arg(long, default_value = "clutter:1")]
     background: String,
+    /// Folder for the evasion picture (relative paths from the workspace root).
+    #[arg(long, value_name = "DIR", default_value = "out/virtual")]
+    out: PathBuf,
     /// Instead of one run: dropped frames per second for each of these blanking fractions
     /// (comma-separated), at the given --lines.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -253,7 +256,60 @@ fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
         if result.collided() { "COLLIDED" } else { "no collision" },
         result.min_distance_mm[0]
     );
+    let dir = if args.out.is_relative() {
+        root().join(&args.out)
+    } else {
+        args.out.clone()
+    };
+    let path = dir.join(format!("evasion_{bearing:+.0}.png"));
+    picture(&result, bearing, correct_side, &path)?;
+    println!("picture: {}", path.display());
     Ok(())
+}
+
+/// Top-down view of the trial: the obstacle's path in grey, the firmware robot's in colour.
+fn picture(
+    r: &alvs_host::experiments::encounter::EncounterResult,
+    bearing: f64,
+    correct_side: bool,
+    path: &Path,
+) -> Result<(), String> {
+    use alvs_host::arena::{TopDown, World};
+    use alvs_host::experiments::encounter::tested_start;
+    let mut td = TopDown::new(&World::default().arena, 0.6);
+    td.title(&format!(
+        "firmware on the virtual board: obstacle at {bearing:+.0} deg, {}, {}",
+        if correct_side {
+            "correct side"
+        } else {
+            "wrong side"
+        },
+        if r.collided() {
+            "collided"
+        } else {
+            "no collision"
+        }
+    ));
+    let grey = [150, 150, 150];
+    if let Some(o) = r.trails.get(1) {
+        td.trail(o, grey);
+        if let Some(s) = o.first() {
+            td.mark(s.0, s.1, grey);
+        }
+    }
+    let colour = [200, 40, 40];
+    td.trail(&r.trails[0], colour);
+    if let Some(e) = r.trails[0].last() {
+        td.mark(e.0, e.1, colour);
+    }
+    td.robot(&tested_start(), [255, 255, 255]);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    td.into_canvas()
+        .save_png(path)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 fn sweep(args: &Args, elf: &[u8], frames: &[Vec<u8>]) -> Result<(), String> {
