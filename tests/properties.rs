@@ -206,14 +206,18 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
         1u8..=4,
     );
-    // warm-up frames, whole-field luminance events
-    let fourth = (prop_oneof![3 => 0u8..=8, 1 => any::<u8>()], 0u8..=100);
+    // warm-up frames, whole-field luminance events, blocked-way threshold
+    let fourth = (
+        prop_oneof![3 => 0u8..=8, 1 => any::<u8>()],
+        0u8..=100,
+        any::<u8>(),
+    );
     let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
-            (warmup, flicker_pct),
+            (warmup, flicker_pct, blocked_change),
         )| Params {
             w,
             n,
@@ -235,6 +239,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             q_arms,
             warmup,
             flicker_pct,
+            blocked_change,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -689,6 +694,7 @@ fn params_set_accepts_only_valid_text() {
             ("q_arms", 1, 4),
             ("warmup", 0, 255),
             ("flicker_pct", 0, 100),
+            ("blocked_change", 0, 255),
         ] {
             let r = p.set(name, &format!(" {v} "));
             assert_eq!(r.is_ok(), (lo..=hi).contains(&v), "{name} = {v}: {r:?}");
@@ -698,16 +704,23 @@ fn params_set_accepts_only_valid_text() {
         (p.r_af, p.c_frac, p.d, p.lm_shift, p.q_balance, p.q_arms),
         (99, 100, MAX_D, 24, 100, 4)
     );
-    assert_eq!((p.warmup, p.flicker_pct), (255, 100));
+    assert_eq!((p.warmup, p.flicker_pct, p.blocked_change), (255, 100, 255));
     // each name sets its own field
     let mut q = Params::default();
     q.set("q_arms", "3").unwrap();
     q.set("q_balance", "40").unwrap();
     q.set("warmup", "7").unwrap();
     q.set("flicker_pct", "60").unwrap();
+    q.set("blocked_change", "6").unwrap();
     assert_eq!(
-        (q.q_arms, q.q_balance, q.warmup, q.flicker_pct),
-        (3, 40, 7, 60)
+        (
+            q.q_arms,
+            q.q_balance,
+            q.warmup,
+            q.flicker_pct,
+            q.blocked_change
+        ),
+        (3, 40, 7, 60, 6)
     );
     for t in [0u32, 1, 7000, u32::MAX] {
         assert_eq!(p.set("t_s", &t.to_string()), Ok(()));

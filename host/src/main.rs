@@ -124,7 +124,8 @@ struct CommonArgs {
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
+    /// blocked_travel_mm blocked_yaw_deg.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
 }
@@ -290,13 +291,14 @@ struct ArenaArgs {
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct.
+    /// warmup flicker_pct blocked_change.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
+    /// blocked_travel_mm blocked_yaw_deg.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
 }
@@ -310,13 +312,14 @@ struct ModelArgs {
     model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct.
+    /// warmup flicker_pct blocked_change.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames.
+    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
+    /// blocked_travel_mm blocked_yaw_deg.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

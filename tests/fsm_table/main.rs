@@ -10,6 +10,7 @@ use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
 use proptest::prelude::*;
 
+mod blocked_way;
 mod fixtures;
 mod gamma;
 mod parameters;

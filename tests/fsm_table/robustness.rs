@@ -1,6 +1,7 @@
 //! Bad input: non-finite values stop the wheels, any input keeps the outputs finite.
 
 use super::*;
+use alvs_tasks::model::progress::VIEW_CELLS;
 
 #[test]
 fn non_finite_inputs_stop_the_wheels_without_a_transition() {
@@ -73,8 +74,12 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
         any::<bool>(),
         proptest::option::of(any_f32()),
         proptest::option::of((any_f32(), any_f32())),
+        proptest::option::of((
+            proptest::collection::vec(any::<u8>(), VIEW_CELLS),
+            any::<u8>(),
+        )),
     )
-        .prop_map(|(sum, s, x, alert, short_mode, tl, ts)| Visuomotor {
+        .prop_map(|(sum, s, x, alert, short_mode, tl, ts, view)| Visuomotor {
             lplc2_sum: sum,
             strength: s,
             threat_x: x,
@@ -82,6 +87,11 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
             short_mode,
             theta_long: tl,
             theta_short: ts.map(|(a, b)| [a, b]),
+            view: view.map(|(v, level)| {
+                let mut cells = [0u8; VIEW_CELLS];
+                cells.copy_from_slice(&v);
+                (cells, level)
+            }),
         })
 }
 
@@ -118,8 +128,8 @@ proptest! {
     /// Nonsensical parameters must not panic either.
     #[test]
     fn any_params_do_not_panic(
-        vals in proptest::collection::vec(any_f32(), 10),
-        counts in proptest::collection::vec(any::<u32>(), 6),
+        vals in proptest::collection::vec(any_f32(), 12),
+        counts in proptest::collection::vec(any::<u32>(), 7),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
@@ -139,6 +149,9 @@ proptest! {
             saccade_yaw_deg_s: vals[9],
             settle_frames: counts[4],
             alert_frames: counts[5],
+            blocked_frames: counts[6],
+            blocked_travel_mm: vals[10],
+            blocked_yaw_deg: vals[11],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

@@ -22,6 +22,7 @@
 //! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode; Spin → Wander once
 //! `spin_frames` frames have passed without alert. It never escapes.
 
+use crate::model::progress::{self, Progress};
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
 
 /// Motion state of the robot.
@@ -129,6 +130,13 @@ pub struct FsmParams {
     /// Consecutive alert frames before the FSM acts on an alert or on the short mode. 1 acts
     /// on a single frame; the paper's firmware waits for 3 frames above its threshold.
     pub alert_frames: u32,
+    /// Blocked way (efference copy, [`crate::model::progress`]): frames between two views
+    /// compared. Active only when the network reports views (`Params::blocked_change` > 0).
+    pub blocked_frames: u32,
+    /// Forward travel the FSM must have commanded over those frames, mm.
+    pub blocked_travel_mm: f32,
+    /// ... while its heading changed by at most this, degrees.
+    pub blocked_yaw_deg: f32,
 }
 
 impl Default for FsmParams {
@@ -150,13 +158,16 @@ impl Default for FsmParams {
             saccade_yaw_deg_s: 45.0,
             settle_frames: 0,
             alert_frames: 1,
+            blocked_frames: 15,
+            blocked_travel_mm: 40.0,
+            blocked_yaw_deg: 10.0,
         }
     }
 }
 
 impl FsmParams {
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 16] = [
+    pub const NAMES: [&'static str; 19] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -173,6 +184,9 @@ impl FsmParams {
         "saccade_yaw_deg_s",
         "settle_frames",
         "alert_frames",
+        "blocked_frames",
+        "blocked_travel_mm",
+        "blocked_yaw_deg",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
@@ -211,7 +225,10 @@ impl FsmParams {
             "spin_deg_s" => p.spin_deg_s = real(false)?,
             "saccade_yaw_deg_s" => p.saccade_yaw_deg_s = real(true)?,
             "settle_frames" => p.settle_frames = count()?,
-            _ => p.alert_frames = count()?,
+            "alert_frames" => p.alert_frames = count()?,
+            "blocked_frames" => p.blocked_frames = count()?,
+            "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
+            _ => p.blocked_yaw_deg = real(false)?,
         }
         Ok(())
     }
@@ -344,6 +361,10 @@ pub struct Fsm {
     settle: u32,
     /// Consecutive unsuppressed frames with an alert.
     alert_run: u32,
+    /// Forward speed commanded on the previous frame, mm/s (the efference copy).
+    last_forward_mm_s: f32,
+    /// The blocked-way test's period.
+    progress: Progress,
 }
 
 impl Fsm {
@@ -363,6 +384,8 @@ impl Fsm {
             last_yaw_deg_s: 0.0,
             settle: 0,
             alert_run: 0,
+            last_forward_mm_s: 0.0,
+            progress: Progress::NEW,
         }
     }
 
@@ -423,11 +446,50 @@ impl Fsm {
         } else {
             vm
         };
+        let blocked = self.blocked(vm, h);
         match self.behaviour {
+            // the way ahead is blocked: turn around, as from a threat dead ahead
+            Behaviour::Escape if blocked && matches!(self.state, State::Wander | State::Escape) => {
+                self.state = State::LongTakeoff;
+                self.short_phase = None;
+                self.setpoint = wrap_deg(h + 180.0);
+                self.frames = 0;
+                self.quiet = 0;
+            }
             Behaviour::Escape => self.transition_escape(vm, h),
             Behaviour::Swarm => self.transition_swarm(vm, h),
         }
         self.output(h)
+    }
+
+    /// The blocked-way test ([`progress`]): every `blocked_frames` frames, whether the FSM
+    /// commanded at least `blocked_travel_mm` forward with at most `blocked_yaw_deg` of turn
+    /// since the last view compared, and the view barely changed.
+    fn blocked(&mut self, vm: &Visuomotor, h: f32) -> bool {
+        let p = self.params;
+        let Some((view, level)) = vm.view.filter(|_| p.blocked_frames > 0) else {
+            self.progress = Progress::NEW;
+            return false;
+        };
+        let g = &mut self.progress;
+        g.frames = g.frames.saturating_add(1);
+        // efference copy: the travel this FSM commanded over the last frame (30 fps)
+        g.travel_mm += self.last_forward_mm_s / 30.0;
+        if g.snapshot.is_some() && g.frames < p.blocked_frames {
+            return false;
+        }
+        let blocked = g.snapshot.is_some_and(|old| {
+            g.travel_mm >= p.blocked_travel_mm
+                && heading_error_deg(g.heading_deg, h).abs() <= p.blocked_yaw_deg
+                && progress::change(&old, &view) < level
+        });
+        *g = Progress {
+            snapshot: Some(view),
+            frames: 0,
+            travel_mm: 0.0,
+            heading_deg: h,
+        };
+        blocked
     }
 
     /// Whether the next frame's perception will be ignored (the robot is turning fast, or
@@ -572,6 +634,7 @@ impl Fsm {
         };
         let yaw = omega.to_degrees().abs();
         self.last_yaw_deg_s = if yaw.is_finite() { yaw } else { 0.0 };
+        self.last_forward_mm_s = if v.is_finite() { v } else { 0.0 };
         let (l, r) = mix(v, omega, p);
         self.command(l, r)
     }

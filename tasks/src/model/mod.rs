@@ -22,5 +22,6 @@ pub mod lplc2;
 pub mod luminance;
 pub mod network;
 pub mod params;
+pub mod progress;
 pub mod retina;
 pub mod visuomotor;

@@ -18,6 +18,7 @@ use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
 use crate::model::luminance;
 use crate::model::params::{ParamError, Params};
+use crate::model::progress;
 use crate::model::retina::{delay_q8, Retina, RowError, Weights};
 use crate::model::visuomotor::Visuomotor;
 
@@ -297,7 +298,10 @@ impl Network {
                 });
             }
         }
-        let vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
+        let mut vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
+        if p.blocked_change > 0 {
+            vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
+        }
         mark(Stage::Visuomotor);
         Ok(Perception {
             frame: index,

@@ -71,6 +71,12 @@ pub struct Params {
     /// stimulated in that frame. 0 turns it off (the paper). See `docs/model.md`,
     /// "Closed-loop mechanisms".
     pub flicker_pct: u8,
+    /// Blocked way (efference copy): the escape FSM turns around when it commanded forward
+    /// travel but the coarse view changed by less than this many grey levels on average
+    /// ([`crate::model::progress`]). 0 turns it off: the paper, and the default too (it frees
+    /// robots from walls but lowers the arena's success rate, `docs/experiments.md`); 6 is the
+    /// measured threshold.
+    pub blocked_change: u8,
 }
 
 impl Params {
@@ -96,6 +102,7 @@ impl Params {
         q_arms: 4,
         warmup: 0,
         flicker_pct: 0,
+        blocked_change: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -128,7 +135,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 20] = [
+    pub const NAMES: [&'static str; 21] = [
         "w",
         "n",
         "r_af",
@@ -149,12 +156,13 @@ impl Params {
         "q_arms",
         "warmup",
         "flicker_pct",
+        "blocked_change",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 20] = [
+    pub const RANGES: [Range; 21] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -175,6 +183,7 @@ impl Params {
         Range::Int(1, 4),
         Range::Int(0, 255),
         Range::Int(0, 100),
+        Range::Int(0, 255),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -197,6 +206,7 @@ impl Params {
         check_int("q_arms", self.q_arms.into())?;
         check_int("warmup", self.warmup.into())?;
         check_int("flicker_pct", self.flicker_pct.into())?;
+        check_int("blocked_change", self.blocked_change.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -243,8 +253,9 @@ impl Params {
             "q_balance" => p.q_balance = int(name, v)?,
             "q_arms" => p.q_arms = int(name, v)?,
             "warmup" => p.warmup = int(name, v)?,
+            "flicker_pct" => p.flicker_pct = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.flicker_pct = int(name, v)?,
+            _ => p.blocked_change = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -406,16 +417,21 @@ mod tests {
     fn the_default_is_the_paper_plus_the_closed_loop_mechanisms_only() {
         let (paper, alvs) = (Params::PAPER, Params::ALVS);
         assert_eq!(
-            (paper.warmup, paper.flicker_pct),
-            (0, 0),
-            "the paper has neither"
+            (paper.warmup, paper.flicker_pct, paper.blocked_change),
+            (0, 0, 0),
+            "the paper has none"
         );
-        assert_eq!((alvs.warmup, alvs.flicker_pct), (4, 50));
+        // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
+        assert_eq!(
+            (alvs.warmup, alvs.flicker_pct, alvs.blocked_change),
+            (4, 50, 0)
+        );
         // everything else is the paper's
         assert_eq!(
             Params {
                 warmup: 0,
                 flicker_pct: 0,
+                blocked_change: 0,
                 ..alvs
             },
             paper

@@ -7,6 +7,7 @@
 
 use crate::frame::CENTRE_X;
 use crate::model::params::Params;
+use crate::model::progress::View;
 
 /// What the premotor neurons make of one frame's LPLC2 responses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -26,6 +27,9 @@ pub struct Visuomotor {
     pub theta_long: Option<f32>,
     /// `[θ¹_short, θ²_short]`, Eqs. (14)–(15), relative to the heading; `None` without threat.
     pub theta_short: Option<[f32; 2]>,
+    /// The frame's coarse view for the blocked-way test, with its threshold
+    /// (`Params::blocked_change`); `None` when that mechanism is off (the paper's model).
+    pub view: Option<(View, u8)>,
 }
 
 impl Visuomotor {
@@ -52,6 +56,7 @@ impl Visuomotor {
             short_mode: sum > p.t_s,
             theta_long: threat_x.map(|x| theta_long(x, p.alpha)),
             theta_short: threat_x.map(|x| theta_short(x, p.alpha)),
+            view: None,
         }
     }
 }
