@@ -52,6 +52,37 @@ pub fn load<D>(uc: &mut Unicorn<'_, D>, chunks: &[crate::elf::Chunk]) -> Result<
     Ok(())
 }
 
+/// Reads memory; an unmapped address is [`Error::Unmapped`].
+pub fn read<D>(uc: &Unicorn<'_, D>, addr: u32, len: usize) -> Result<Vec<u8>, Error> {
+    uc.mem_read_as_vec(addr.into(), len)
+        .map_err(|_| Error::Unmapped {
+            access: crate::error::Access::Read,
+            addr,
+            pc: 0,
+        })
+}
+
+/// Fills `range` (word aligned) with `pattern`, for a stack's high-water mark.
+pub fn paint<D>(uc: &mut Unicorn<'_, D>, range: Range<u32>, pattern: u32) -> Result<(), Error> {
+    let words = (range.end.saturating_sub(range.start) / 4) as usize;
+    let bytes: Vec<u8> = std::iter::repeat_n(pattern.to_le_bytes(), words)
+        .flatten()
+        .collect();
+    uc.mem_write(range.start.into(), &bytes).map_err(emu)
+}
+
+/// Bytes of `range` (a downward-growing stack painted with `pattern`) that were written: from
+/// the lowest changed word to the end of the range.
+pub fn high_water<D>(uc: &Unicorn<'_, D>, range: Range<u32>, pattern: u32) -> Result<u32, Error> {
+    let len = range.end.saturating_sub(range.start) as usize & !3;
+    let bytes = read(uc, range.start, len)?;
+    let first = bytes
+        .chunks_exact(4)
+        .position(|w| w != pattern.to_le_bytes())
+        .map_or(len as u32, |i| 4 * i as u32);
+    Ok(len as u32 - first)
+}
+
 /// Decodes the instruction at `addr` (`size` bytes as unicorn reports it), reading up to 18
 /// bytes: an IT instruction and the four it covers.
 pub fn decode_at<D>(uc: &Unicorn<'_, D>, decoder: &Decoder, addr: u64, size: u32) -> Decoded {

@@ -8,7 +8,7 @@ use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
 
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
-use crate::emu::{cortex_m4, decode_at, emu, load, RegisterPage};
+use crate::emu::{self, cortex_m4, decode_at, emu, load, RegisterPage};
 use crate::error::{Access, Error};
 use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, PPB, SCB_CPACR, SCB_CPUID, SRAM};
 use crate::ram::RamReport;
@@ -320,13 +320,7 @@ impl Machine {
     }
 
     pub fn read(&self, addr: u32, len: usize) -> Result<Vec<u8>, Error> {
-        self.uc
-            .mem_read_as_vec(addr.into(), len)
-            .map_err(|_| Error::Unmapped {
-                access: Access::Read,
-                addr,
-                pc: 0,
-            })
+        emu::read(&self.uc, addr, len)
     }
 
     pub fn read_u32(&self, addr: u32) -> Result<u32, Error> {
@@ -420,23 +414,15 @@ impl Machine {
 
     /// Fills `range` (word aligned) with `pattern`.
     pub fn paint(&mut self, range: Range<u32>, pattern: u32) -> Result<(), Error> {
-        let words = (range.end.saturating_sub(range.start) / 4) as usize;
-        let bytes: Vec<u8> = std::iter::repeat_n(pattern.to_le_bytes(), words)
-            .flatten()
-            .collect();
-        self.write(range.start, &bytes)
+        emu::paint(&mut self.uc, range, pattern)?;
+        self.uc.get_data_mut().decoded.clear();
+        Ok(())
     }
 
     /// Bytes of `range` (a downward-growing stack painted with `pattern`) that were written:
     /// from the lowest changed word to the end of the range.
     pub fn high_water(&self, range: Range<u32>, pattern: u32) -> Result<u32, Error> {
-        let len = range.end.saturating_sub(range.start) as usize & !3;
-        let bytes = self.read(range.start, len)?;
-        let first = bytes
-            .chunks_exact(4)
-            .position(|w| w != pattern.to_le_bytes())
-            .map_or(len as u32, |i| 4 * i as u32);
-        Ok(len as u32 - first)
+        emu::high_water(&self.uc, range, pattern)
     }
 
     /// Paints the stack below the initial SP (see [`Machine::stack`]).

@@ -22,7 +22,7 @@ use super::rtt::{self, Rtt};
 use super::uart::UART4_BASE;
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
-use crate::emu::{cortex_m4, decode_at, emu, load, RegisterPage};
+use crate::emu::{self, cortex_m4, decode_at, emu, load, RegisterPage};
 use crate::error::{Access, Error};
 use crate::memory::{CCM, DWT_CYCCNT, DWT_PAGE, FLASH, SRAM};
 use crate::timing::{FlashModel, Timing};
@@ -202,14 +202,7 @@ impl Board {
         add_hooks(&mut uc)?;
         load(&mut uc, &image.chunks)?;
         // the stack (all of CCM, memory.x) painted, for the high-water mark
-        let paint: Vec<u8> = STACK_PAINT
-            .to_le_bytes()
-            .iter()
-            .copied()
-            .cycle()
-            .take((CCM.end - CCM.start) as usize)
-            .collect();
-        uc.mem_write(CCM.start.into(), &paint).map_err(emu)?;
+        emu::paint(&mut uc, CCM, STACK_PAINT)?;
         let mut board = Board {
             uc,
             symbols: image.symbols,
@@ -278,13 +271,7 @@ impl Board {
     /// The deepest the stack (CCM, painted at power-on) has been since, in bytes below its top:
     /// every task and interrupt nesting included.
     pub fn stack_high_water(&self) -> Result<u32, Error> {
-        let len = (CCM.end - CCM.start) as usize;
-        let bytes = self.read(CCM.start, len)?;
-        let untouched = bytes
-            .chunks_exact(4)
-            .position(|w| w != STACK_PAINT.to_le_bytes())
-            .map_or(len, |i| 4 * i);
-        Ok((len - untouched) as u32)
+        emu::high_water(&self.uc, CCM, STACK_PAINT)
     }
 
     /// Paints the free stack again (below SP; only in Thread mode, where nothing below SP is
@@ -299,26 +286,13 @@ impl Board {
         if !(CCM.start..=CCM.end).contains(&sp) {
             return Ok(false);
         }
-        let paint: Vec<u8> = STACK_PAINT
-            .to_le_bytes()
-            .iter()
-            .copied()
-            .cycle()
-            .take((sp - CCM.start) as usize)
-            .collect();
-        self.uc.mem_write(CCM.start.into(), &paint).map_err(emu)?;
+        emu::paint(&mut self.uc, CCM.start..sp, STACK_PAINT)?;
         Ok(true)
     }
 
     /// Reads memory (after a run, for tests).
     pub fn read(&self, addr: u32, len: usize) -> Result<Vec<u8>, Error> {
-        self.uc
-            .mem_read_as_vec(addr.into(), len)
-            .map_err(|_| Error::Unmapped {
-                access: Access::Read,
-                addr,
-                pc: 0,
-            })
+        emu::read(&self.uc, addr, len)
     }
 
     /// Raises the fault a `udf` would (the end of every panic) at the next instruction.
