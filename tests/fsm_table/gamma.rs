@@ -62,7 +62,13 @@ fn gamma_path_in_closed_loop_turns_away_from_the_threat() {
                 match (c.state, c.short_phase) {
                     (State::ShortTakeoff, Some(ShortPhase::Retreat)) => {
                         assert_eq!(phase2, 0, "phase 1 comes first");
-                        assert!(c.left_mm_s + c.right_mm_s < 0.0, "retreat at frame {i}");
+                        if (i as u32) < f.params().retreat_frames {
+                            assert!(c.left_mm_s + c.right_mm_s < 0.0, "retreat at frame {i}");
+                        } else {
+                            // bounded retreat: then it turns in place
+                            let sum = c.left_mm_s + c.right_mm_s;
+                            assert!(sum.abs() < 1e-3, "in place at frame {i}: {sum}");
+                        }
                         assert!(err(c.heading_setpoint_deg, h0 + t1) < 1e-3, "no re-latch");
                         phase1 += 1;
                     }
@@ -145,4 +151,30 @@ fn long_takeoff_turns_away_from_the_threat_side_and_escapes_at_s_times_max() {
         // only a residual correction (1° of error is 4°/s, i.e. 3.4 mm/s of wheel difference)
         assert!((c.left_mm_s - c.right_mm_s).abs() < 5.0, "{c:?}");
     }
+}
+
+#[test]
+fn the_retreat_reverses_for_retreat_frames_then_turns_in_place() {
+    for (frames, reversing) in [(0u32, 0usize), (3, 3), (u32::MAX, usize::MAX)] {
+        let mut p = FsmParams::default();
+        p.set("retreat_frames", &frames.to_string()).unwrap();
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        // the robot does not turn (heading held at 0): phase 1 never ends
+        let back: Vec<bool> = (0..10)
+            .map(|_| {
+                let c = f.step(&short(RIGHT_X), 0.0);
+                assert_eq!(c.short_phase, Some(ShortPhase::Retreat));
+                c.left_mm_s + c.right_mm_s < 0.0
+            })
+            .collect();
+        let n = back.iter().take_while(|&&b| b).count();
+        assert_eq!(n, reversing.min(10), "retreat_frames {frames}: {back:?}");
+        assert!(back[n..].iter().all(|&b| !b), "never reverses again");
+    }
+    assert_eq!(
+        FsmParams::default().retreat_frames,
+        u32::MAX,
+        "the paper's γ path"
+    );
 }

@@ -129,13 +129,14 @@ proptest! {
     #[test]
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 12),
-        counts in proptest::collection::vec(any::<u32>(), 7),
+        counts in proptest::collection::vec(any::<u32>(), 8),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
             cruise_mm_s: vals[0],
             max_escape_mm_s: vals[1],
             retreat_mm_s: vals[2],
+            retreat_frames: counts[7],
             max_wheel_mm_s: vals[3],
             track_mm: vals[4],
             heading_gain: vals[5],

@@ -95,6 +95,12 @@ pub struct FsmParams {
     pub max_escape_mm_s: f32,
     /// Reverse speed of short phase 1 at `S = 1`, mm/s (also scaled by `S`).
     pub retreat_mm_s: f32,
+    /// Frames short phase 1 reverses at most; then it turns in place until aligned with `sp¹`.
+    /// The camera looks forward: reversing is blind. Default `u32::MAX`: the paper's γ path,
+    /// which reverses until aligned; 6 cuts wall collisions on the built-in walls but lowers
+    /// the success rate on the outdoor photographs (`docs/experiments.md`, "Closed-loop
+    /// mechanisms").
+    pub retreat_frames: u32,
     /// Hard limit on each wheel's speed, mm/s. Turning has priority: forward speed is cut so
     /// that `|v| + |ω|·track/2` stays below it.
     pub max_wheel_mm_s: f32,
@@ -145,6 +151,7 @@ impl Default for FsmParams {
             cruise_mm_s: 100.0,
             max_escape_mm_s: 200.0,
             retreat_mm_s: 150.0,
+            retreat_frames: u32::MAX,
             max_wheel_mm_s: 300.0,
             track_mm: 48.0,
             heading_gain: 4.0,
@@ -167,7 +174,7 @@ impl Default for FsmParams {
 
 impl FsmParams {
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 19] = [
+    pub const NAMES: [&'static str; 20] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -187,6 +194,7 @@ impl FsmParams {
         "blocked_frames",
         "blocked_travel_mm",
         "blocked_yaw_deg",
+        "retreat_frames",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
@@ -228,7 +236,8 @@ impl FsmParams {
             "alert_frames" => p.alert_frames = count()?,
             "blocked_frames" => p.blocked_frames = count()?,
             "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
-            _ => p.blocked_yaw_deg = real(false)?,
+            "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
+            _ => p.retreat_frames = count()?,
         }
         Ok(())
     }
@@ -628,6 +637,8 @@ impl Fsm {
             State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
             State::ShortTakeoff => match self.short_phase {
                 Some(ShortPhase::Turn) => (s * p.max_escape_mm_s, self.steer(self.setpoint2, h)),
+                // phase 1: reverse for at most `retreat_frames` (frames count from the entry)
+                _ if self.frames >= p.retreat_frames => (0.0, self.steer(self.setpoint, h)),
                 _ => (-s * p.retreat_mm_s, self.steer(self.setpoint, h)),
             },
             State::Spin => (0.0, p.spin_deg_s.to_radians()),
