@@ -514,7 +514,7 @@ pub fn read_clip(path: &Path) -> Result<Vec<Frame>, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     if bytes.is_empty() || bytes.len() % PIXELS != 0 {
         return Err(format!(
-            "{}: {} bytes is not a whole number of 99x72 frames ({PIXELS} B each)",
+            "{}: {} bytes is not a whole number of 99x72 Y8 frames ({PIXELS} bytes each)",
             path.display(),
             bytes.len()
         ));

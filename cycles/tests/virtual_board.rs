@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use alvs_cycles::budget::{build_firmware, BuildError, CLIPS_DIR};
+use alvs_cycles::budget::{build_firmware, read_clip, BuildError, CLIPS_DIR};
 use alvs_cycles::system::{Board, Config, ResetCause};
 use alvs_cycles::CLOCK_HZ;
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
@@ -34,8 +34,8 @@ fn firmware() -> Option<Vec<u8>> {
 }
 
 fn clip(name: &str) -> Vec<Vec<u8>> {
-    let bytes = std::fs::read(root().join(CLIPS_DIR).join(name)).expect("clip");
-    bytes.chunks_exact(PIXELS).map(<[u8]>::to_vec).collect()
+    let frames = read_clip(&root().join(CLIPS_DIR).join(name)).expect("clip");
+    frames.iter().map(|f| f.to_vec()).collect()
 }
 
 /// A board whose camera loops over `frames`.

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use alvs_cycles::budget::build_firmware;
+use alvs_cycles::budget::{build_firmware, read_clip};
 use alvs_cycles::system::{Board, CameraTiming, Config, Report, HEIGHT, WIDTH};
 use alvs_cycles::CLOCK_HZ;
 use clap::Parser;
@@ -91,16 +91,7 @@ fn frames(args: &Args) -> Result<Vec<Vec<u8>>, String> {
             } else {
                 path.clone()
             };
-            let bytes =
-                std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            if bytes.is_empty() || bytes.len() % size != 0 {
-                return Err(format!(
-                    "{}: {} bytes is not a whole number of {WIDTH}x{HEIGHT} Y8 frames ({size} bytes each)",
-                    path.display(),
-                    bytes.len()
-                ));
-            }
-            Ok(bytes.chunks_exact(size).map(<[u8]>::to_vec).collect())
+            Ok(read_clip(&path)?.iter().map(|f| f.to_vec()).collect())
         }
         None => Ok((0..8u32)
             .map(|k| {
