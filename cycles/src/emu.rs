@@ -62,6 +62,12 @@ pub fn read<D>(uc: &Unicorn<'_, D>, addr: u32, len: usize) -> Result<Vec<u8>, Er
         })
 }
 
+/// Reads a little-endian word.
+pub fn read_u32<D>(uc: &Unicorn<'_, D>, addr: u32) -> Result<u32, Error> {
+    let b = read(uc, addr, 4)?;
+    Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
 /// Fills `range` (word aligned) with `pattern`, for a stack's high-water mark.
 pub fn paint<D>(uc: &mut Unicorn<'_, D>, range: Range<u32>, pattern: u32) -> Result<(), Error> {
     let words = (range.end.saturating_sub(range.start) / 4) as usize;

@@ -324,8 +324,7 @@ impl Machine {
     }
 
     pub fn read_u32(&self, addr: u32) -> Result<u32, Error> {
-        let b = self.read(addr, 4)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        emu::read_u32(&self.uc, addr)
     }
 
     /// Writes memory (flash too: this is the loader's view). Clears the decode cache, so code

@@ -139,6 +139,23 @@ impl Sys {
     fn now(&self) -> u64 {
         self.timing.counters.pessimistic() + self.extra
     }
+
+    /// Schedules what runs whatever the MCU does (at power-on, again after a reset): the
+    /// sensor's next frame start on its own frame clock, and the probe's next RTT poll.
+    fn schedule_clocks(&mut self) {
+        let now = self.now();
+        let period = self.config.camera.frame_cycles;
+        let first = self.config.camera.first_frame_at;
+        let next = if now < first {
+            first
+        } else {
+            first + (now - first).div_ceil(period) * period
+        };
+        let frame = (next - first) / period;
+        self.events.schedule(next, Event::FrameStart { frame });
+        self.events
+            .schedule(now + self.config.rtt_poll_cycles, Event::RttPoll);
+    }
 }
 
 /// The virtual board.
@@ -331,11 +348,7 @@ impl Board {
     }
 
     fn power_on(&mut self) -> Result<(), Error> {
-        let st = self.uc.get_data_mut();
-        let first = st.config.camera.first_frame_at;
-        st.events.schedule(first, Event::FrameStart { frame: 0 });
-        let poll = st.config.rtt_poll_cycles;
-        st.events.schedule(poll, Event::RttPoll);
+        self.uc.get_data_mut().schedule_clocks();
         self.boot()
     }
 
@@ -381,17 +394,7 @@ impl Board {
         st.fault = None;
         // the events of the old peripherals go; the sensor and the probe keep their clocks
         st.events.clear();
-        let period = st.config.camera.frame_cycles;
-        let first = st.config.camera.first_frame_at;
-        let next = if now < first {
-            first
-        } else {
-            first + (now - first).div_ceil(period) * period
-        };
-        let frame = (next - first) / period;
-        st.events.schedule(next, Event::FrameStart { frame });
-        st.events
-            .schedule(now + st.config.rtt_poll_cycles, Event::RttPoll);
+        st.schedule_clocks();
         self.boot()
     }
 
@@ -406,8 +409,7 @@ impl Board {
     }
 
     fn read_u32(&self, addr: u32) -> Result<u32, Error> {
-        let b = self.read(addr, 4)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        emu::read_u32(&self.uc, addr)
     }
 
     fn write_words(&mut self, addr: u32, words: &[u32]) -> Result<(), Error> {
@@ -928,7 +930,6 @@ fn bus_write(st: &mut Sys, addr: u32, size: usize, value: u32) {
     if aligned == UART4_BASE + 4 {
         st.log.uart_writes.push((now, value as u8));
     }
-    let now = st.now();
     if st.p.write(aligned, word, now, &mut st.events) {
         st.p.update_lines();
     }

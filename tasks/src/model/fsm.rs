@@ -459,11 +459,7 @@ impl Fsm {
         match self.behaviour {
             // the way ahead is blocked: turn around, as from a threat dead ahead
             Behaviour::Escape if blocked && matches!(self.state, State::Wander | State::Escape) => {
-                self.state = State::LongTakeoff;
-                self.short_phase = None;
-                self.setpoint = wrap_deg(h + 180.0);
-                self.frames = 0;
-                self.quiet = 0;
+                self.enter_turn(h, 180.0);
             }
             Behaviour::Escape => self.transition_escape(vm, h),
             Behaviour::Swarm => self.transition_swarm(vm, h),
@@ -519,11 +515,15 @@ impl Fsm {
     fn enter_long(&mut self, vm: &Visuomotor, h: f32) {
         // An alert without a bearing (not produced by `Visuomotor::from_fields`) is taken as a
         // threat dead ahead: turn around.
-        let theta = vm.theta_long.unwrap_or(180.0);
+        self.enter_turn(h, vm.theta_long.unwrap_or(180.0));
+        self.strength = limit(vm.strength, 1.0).max(0.0);
+    }
+
+    /// A long takeoff to `h + theta` (the escape strength stays as latched).
+    fn enter_turn(&mut self, h: f32, theta: f32) {
         self.state = State::LongTakeoff;
         self.short_phase = None;
         self.setpoint = wrap_deg(h + theta);
-        self.strength = limit(vm.strength, 1.0).max(0.0);
         self.frames = 0;
         self.quiet = 0;
     }
