@@ -158,12 +158,13 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, {} B of model state, motors off until {} frames primed it",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, {} B of model state, motors off until {} frames primed it",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
             alvs_tasks::Params::ALVS.warmup,
             alvs_tasks::Params::ALVS.flicker_pct,
+            alvs_tasks::Params::ALVS.derotate,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES
         );
@@ -252,8 +253,8 @@ mod app {
         }
     }
 
-    /// The rest of the aLPLC2 step on the frame whose rows are in; the network is parked
-    /// again at once, motor control gets the result.
+    /// The rest of the aLPLC2 step on the frame whose rows are in; motor control gets the
+    /// result and the network, which it parks once the network has taken the turn.
     #[task(priority = 2, shared = [parked, safety, stats])]
     async fn perception(
         mut cx: perception::Context,
@@ -263,28 +264,43 @@ mod app {
         let t0 = DWT::cycle_count();
         let result = network.end_frame();
         let cycles = retina_cycles.wrapping_add(DWT::cycle_count().wrapping_sub(t0));
-        cx.shared.parked.lock(|p| *p = Some(network));
         match result {
             Ok(p) => {
                 let now = now_ms();
                 cx.shared.safety.lock(|s| s.frame(now));
                 cx.shared.stats.lock(|w| w.record_frame(cycles));
-                if motor_control::spawn(p, cycles).is_err() {
+                if let Err((network, ..)) = motor_control::spawn(network, p, cycles) {
+                    cx.shared.parked.lock(|p| *p = Some(network));
                     rprintln!("ERROR perception: motor control still busy");
                 }
             }
             // the capture policy delivers only whole frames
-            Err(e) => rprintln!("ERROR perception: {}", e),
+            Err(e) => {
+                cx.shared.parked.lock(|p| *p = Some(network));
+                rprintln!("ERROR perception: {}", e);
+            }
         }
     }
 
-    /// The escape FSM on this frame's perception; wheel powers to the bottom board; the
-    /// frame's telemetry record to the telemetry task.
-    #[task(priority = 3, shared = [safety, control, link], local = [records_tx])]
-    async fn motor_control(mut cx: motor_control::Context, p: Perception, cycles: u32) {
+    /// The escape FSM on this frame's perception; wheel powers to the bottom board; the turn
+    /// they make until the next frame to the network (its efference copy, `Network::turned`),
+    /// which is then parked for the camera; the frame's telemetry record to the telemetry task.
+    /// Rows arriving meanwhile wait in the camera side's backlog.
+    #[task(priority = 3, shared = [safety, control, link, parked], local = [records_tx])]
+    async fn motor_control(
+        mut cx: motor_control::Context,
+        network: &'static mut Network,
+        p: Perception,
+        cycles: u32,
+    ) {
         let enable = cx.shared.safety.lock(|s| s.fault().is_none() && s.primed());
-        let (command, frames) = cx.shared.control.lock(|c| c.step(&p.vm, enable));
+        let (command, frames, turn) = cx.shared.control.lock(|c| {
+            let (command, frames) = c.step(&p.vm, enable);
+            (command, frames, c.last_turn_deg())
+        });
         cx.shared.link.lock(|l| l.send(&frames));
+        network.turned(turn);
+        cx.shared.parked.lock(|p| *p = Some(network));
         let record = Record::from_perception(&p, command.state, cycles);
         if cx.local.records_tx.try_send(record).is_err() {
             RTT_DROPPED.fetch_add(1, Ordering::Relaxed);

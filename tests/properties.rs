@@ -8,6 +8,7 @@
 
 use std::cell::Cell;
 
+use alvs_tasks::model::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
 use alvs_tasks::{Network, ParamError, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
 use proptest::prelude::*;
@@ -206,18 +207,19 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
         1u8..=4,
     );
-    // warm-up frames, whole-field luminance events, blocked-way threshold
+    // warm-up frames, whole-field luminance events, blocked-way threshold, efference copy
     let fourth = (
         prop_oneof![3 => 0u8..=8, 1 => any::<u8>()],
         0u8..=100,
         any::<u8>(),
+        0u8..=1,
     );
     let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
-            (warmup, flicker_pct, blocked_change),
+            (warmup, flicker_pct, blocked_change, derotate),
         )| Params {
             w,
             n,
@@ -240,6 +242,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             warmup,
             flicker_pct,
             blocked_change,
+            derotate,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -360,27 +363,50 @@ fn check(p: &Params, index: usize, out: &Perception) -> Result<(), TestCaseError
 // Properties
 // ---------------------------------------------------------------------------------------------
 
-/// Arbitrary valid parameters and frame sequences: no panic, every output invariant holds.
-/// The run must also exercise alerts, short mode and several fields, or it proves little.
+/// Turns reported between frames (`Network::turned`): mostly what a robot turns in a frame,
+/// some beyond the limit, some not numbers at all.
+fn turns() -> impl Strategy<Value = Vec<f32>> {
+    let turn = prop_oneof![
+        6 => -15.0f32..15.0,
+        1 => -60.0f32..60.0,
+        1 => prop_oneof![Just(f32::NAN), Just(f32::INFINITY), Just(-0.0), any::<f32>()],
+    ];
+    prop::collection::vec(turn, 1..16)
+}
+
+/// Arbitrary valid parameters, frame sequences and turns between the frames: no panic, every
+/// output invariant holds. The run must also exercise alerts, short mode and several fields,
+/// or it proves little.
 #[test]
 fn outputs_stay_bounded_and_consistent() {
     let (alert_cases, short_cases, multi_cases) = (Cell::new(0), Cell::new(0), Cell::new(0));
     let mut runner = TestRunner::new(config(256));
-    let result = runner.run(&(valid_params(), sequence()), |(p, specs)| {
-        let mut net = Network::new(p).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-        let (mut alert, mut short, mut multi) = (false, false, false);
-        for (i, f) in render(&specs).iter().enumerate() {
-            let out = net.step(f);
-            check(&p, i, &out)?;
-            alert |= out.alert();
-            short |= out.short_mode();
-            multi |= out.afs.len() > 1;
-        }
-        alert_cases.set(alert_cases.get() + usize::from(alert));
-        short_cases.set(short_cases.get() + usize::from(short));
-        multi_cases.set(multi_cases.get() + usize::from(multi));
-        Ok(())
-    });
+    let result = runner.run(
+        &(valid_params(), sequence(), turns()),
+        |(p, specs, turns)| {
+            let mut net = Network::new(p).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            let (mut alert, mut short, mut multi) = (false, false, false);
+            // frames since the network last (re)started: a turn it cannot re-register restarts it
+            let mut k = 0;
+            for (i, f) in render(&specs).iter().enumerate() {
+                let turn = turns[i % turns.len()];
+                prop_assert!(net.turned(turn), "between frames");
+                if p.derotate == 1 && !(turn.is_finite() && turn.abs() <= MAX_TURN_DEG) {
+                    k = 0;
+                }
+                let out = net.step(f);
+                check(&p, k, &out)?;
+                k += 1;
+                alert |= out.alert();
+                short |= out.short_mode();
+                multi |= out.afs.len() > 1;
+            }
+            alert_cases.set(alert_cases.get() + usize::from(alert));
+            short_cases.set(short_cases.get() + usize::from(short));
+            multi_cases.set(multi_cases.get() + usize::from(multi));
+            Ok(())
+        },
+    );
     if let Err(e) = result {
         panic!("{e}");
     }

@@ -3,6 +3,7 @@
 //! direction-blind escape. A scripted controller drives obstacle robots.
 
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, State};
+use alvs_tasks::model::visuomotor::wrap_deg;
 use alvs_tasks::{Frame, Network, Params};
 
 use crate::arena::rng::Rng;
@@ -88,6 +89,9 @@ pub struct AlvsController {
     net: Network,
     fsm: Fsm,
     swarm: bool,
+    /// The heading of the previous frame: the turn since then is the efference copy the
+    /// network takes (`Params::derotate`).
+    last_heading: Option<f32>,
 }
 
 impl AlvsController {
@@ -99,6 +103,7 @@ impl AlvsController {
             }),
             fsm: Fsm::new(fsm, behaviour),
             swarm: behaviour == Behaviour::Swarm,
+            last_heading: None,
         }
     }
 
@@ -118,6 +123,9 @@ impl Controller for AlvsController {
     }
 
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        if let Some(last) = self.last_heading.replace(heading_deg) {
+            self.net.turned(wrap_deg(heading_deg - last));
+        }
         let out = self.net.step(frame);
         let cmd = self.fsm.step(&out.vm, heading_deg);
         Command {

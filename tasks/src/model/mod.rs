@@ -13,8 +13,10 @@
 //! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
 //! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] | — |
 //! | whole-field luminance events (a closed-loop mechanism, not in the paper) | [`luminance`] | — |
+//! | efference copy of turns: the retina's memory re-registered (closed-loop, not in the paper) | [`derotate`] | — |
 
 pub mod attention;
+pub mod derotate;
 pub mod dsp;
 pub mod fsm;
 pub mod hrc;

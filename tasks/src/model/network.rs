@@ -14,6 +14,7 @@
 
 use crate::frame::{Frame, WIDTH};
 use crate::model::attention::Fields;
+use crate::model::derotate::Turn;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
 use crate::model::luminance;
@@ -199,6 +200,33 @@ impl Network {
     /// The next row of a streamed frame (top to bottom): the retina stage runs as rows arrive.
     pub fn push_row(&mut self, row: &[u8; WIDTH]) -> Result<(), RowError> {
         self.retina.push_row(row)
+    }
+
+    /// Efference copy: the robot turned by `yaw_deg` degrees (positive = right) since the last
+    /// frame; call it between frames, before the next frame's first row. With
+    /// `Params::derotate` the retina's memory and the fields' centroids are re-registered to
+    /// the new heading, so the turn itself causes no motion signal ([`crate::model::derotate`]);
+    /// a turn beyond [`crate::model::derotate::MAX_TURN_DEG`] or not finite starts over (the
+    /// next frame primes). Without it (the paper) the report is ignored. Returns false, doing
+    /// nothing, while a streamed frame is half in.
+    pub fn turned(&mut self, yaw_deg: f32) -> bool {
+        if self.retina.rows() != 0 {
+            return false;
+        }
+        if self.params.derotate == 0 {
+            return true;
+        }
+        match Turn::new(yaw_deg) {
+            Some(t) if t.is_none() => {}
+            Some(t) => {
+                self.retina.turn(&t);
+                for f in self.fields.iter_mut() {
+                    (f.x, f.y) = t.moved(f.x, f.y);
+                }
+            }
+            None => self.reset(),
+        }
+        true
     }
 
     /// Drops a partly streamed frame. The rows taken have already replaced part of the

@@ -77,6 +77,11 @@ pub struct Params {
     /// robots from walls but lowers the arena's success rate, `docs/experiments.md`); 6 is the
     /// measured threshold.
     pub blocked_change: u8,
+    /// Efference copy of turns: 1 re-registers the retina's memory to each turn the robot
+    /// reports ([`crate::Network::turned`]), so a turn causes no motion signal
+    /// ([`crate::model::derotate`]); 0 ignores the reports (the paper). See `docs/model.md`,
+    /// "Closed-loop mechanisms".
+    pub derotate: u8,
 }
 
 impl Params {
@@ -103,6 +108,7 @@ impl Params {
         warmup: 0,
         flicker_pct: 0,
         blocked_change: 0,
+        derotate: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -111,6 +117,7 @@ impl Params {
     pub const ALVS: Params = Params {
         warmup: 4,
         flicker_pct: 50,
+        derotate: 1,
         ..Params::PAPER
     };
 
@@ -135,7 +142,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 22] = [
         "w",
         "n",
         "r_af",
@@ -157,12 +164,13 @@ impl Params {
         "warmup",
         "flicker_pct",
         "blocked_change",
+        "derotate",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 21] = [
+    pub const RANGES: [Range; 22] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -184,6 +192,7 @@ impl Params {
         Range::Int(0, 255),
         Range::Int(0, 100),
         Range::Int(0, 255),
+        Range::Int(0, 1),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -207,6 +216,7 @@ impl Params {
         check_int("warmup", self.warmup.into())?;
         check_int("flicker_pct", self.flicker_pct.into())?;
         check_int("blocked_change", self.blocked_change.into())?;
+        check_int("derotate", self.derotate.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -254,8 +264,9 @@ impl Params {
             "q_arms" => p.q_arms = int(name, v)?,
             "warmup" => p.warmup = int(name, v)?,
             "flicker_pct" => p.flicker_pct = int(name, v)?,
+            "blocked_change" => p.blocked_change = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.blocked_change = int(name, v)?,
+            _ => p.derotate = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -417,14 +428,24 @@ mod tests {
     fn the_default_is_the_paper_plus_the_closed_loop_mechanisms_only() {
         let (paper, alvs) = (Params::PAPER, Params::ALVS);
         assert_eq!(
-            (paper.warmup, paper.flicker_pct, paper.blocked_change),
-            (0, 0, 0),
+            (
+                paper.warmup,
+                paper.flicker_pct,
+                paper.blocked_change,
+                paper.derotate
+            ),
+            (0, 0, 0, 0),
             "the paper has none"
         );
         // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
         assert_eq!(
-            (alvs.warmup, alvs.flicker_pct, alvs.blocked_change),
-            (4, 50, 0)
+            (
+                alvs.warmup,
+                alvs.flicker_pct,
+                alvs.blocked_change,
+                alvs.derotate
+            ),
+            (4, 50, 0, 1)
         );
         // everything else is the paper's
         assert_eq!(
@@ -432,6 +453,7 @@ mod tests {
                 warmup: 0,
                 flicker_pct: 0,
                 blocked_change: 0,
+                derotate: 0,
                 ..alvs
             },
             paper

@@ -22,6 +22,7 @@
 //! tests hold the streaming form to.
 
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
+use crate::model::derotate::{Map, Turn};
 use crate::model::dsp;
 use crate::model::hrc::{Cells, Maps};
 use crate::model::params::Params;
@@ -70,6 +71,9 @@ pub struct Retina {
     primed: bool,
     /// Delay-filter gain `1/C_d` in Q8.
     delay_q8: i32,
+    /// Columns `lo..hi` of `P(t−1)` that a turn brought into view ([`Retina::turn`]): each
+    /// row takes the new frame's pixels there, so new content shows no change.
+    fresh: (u8, u8),
 }
 
 impl Retina {
@@ -82,6 +86,7 @@ impl Retina {
             rows: 0,
             primed: false,
             delay_q8,
+            fresh: (0, 0),
         }
     }
 
@@ -125,6 +130,10 @@ impl Retina {
             return Err(RowError::TooManyRows);
         };
         if self.primed {
+            let (lo, hi) = (usize::from(self.fresh.0), usize::from(self.fresh.1));
+            if let (Some(p), Some(r)) = (prev.get_mut(lo..hi), row.get(lo..hi)) {
+                p.copy_from_slice(r);
+            }
             // also replaces the row of P(t−1) by this one, word by word as it is read
             row_sums_packed(row, prev, &mut self.h[y % 3]);
         } else {
@@ -145,6 +154,7 @@ impl Retina {
             return Err(RowError::Short { rows });
         }
         self.rows = 0;
+        self.fresh = (0, 0);
         if !self.primed {
             self.primed = true;
             return Ok(false);
@@ -177,6 +187,25 @@ impl Retina {
         } else {
             finish_cells::<false>(above, mid, below, cells, g);
         }
+    }
+
+    /// Re-registers the memory (`P(t−1)`, the means and their delay line) to a turn of the
+    /// robot since the last frame ([`crate::model::derotate`]); between frames only (the caller checks).
+    /// Means with no past (what came into view) are 0.
+    pub fn turn(&mut self, turn: &Turn) {
+        if !self.primed || turn.is_none() {
+            return;
+        }
+        let map = Map::new(turn);
+        map.remap(&mut self.prev, None);
+        map.remap(&mut self.cells, Some(0));
+        let (lo, hi) = map.fresh_columns();
+        // two turns before one frame: the hull of both (at worst a frame without change)
+        self.fresh = match (self.fresh, lo < hi) {
+            ((a, b), true) if a < b => (a.min(lo), b.max(hi)),
+            (old, false) => old,
+            (_, true) => (lo, hi),
+        };
     }
 
     /// The newest ON/OFF means (`t`) and their delayed copies, as the correlators read them.

@@ -80,8 +80,9 @@ impl Report {
 
 const _: () = assert!(core::mem::size_of::<Report>() == 4 * Report::WORDS);
 
-/// One frame: the network's step fed row by row, then the motor-control step with the motors
-/// enabled. `clock` is read before and after each stage (the DWT cycle counter on a
+/// One frame: the turn of the last control step reported to the network (its efference copy,
+/// timed with the retina), the network's step fed row by row, then the motor-control step with
+/// the motors enabled. `clock` is read before and after each stage (the DWT cycle counter on a
 /// Cortex-M4; anything, or a constant, elsewhere).
 pub fn step(
     network: &mut Network,
@@ -91,6 +92,7 @@ pub fn step(
 ) -> Report {
     let mut stamps = [0u32; STAMPS];
     stamps[0] = clock();
+    network.turned(control.last_turn_deg());
     let perception = network.step_marked(frame, &mut |s| {
         let i = match s {
             Stage::Retina => 1,

@@ -7,7 +7,7 @@
 //! policy holds the motors.
 
 use crate::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
-use crate::model::visuomotor::Visuomotor;
+use crate::model::visuomotor::{wrap_deg, Visuomotor};
 use crate::robot::motor::{MotorFrames, MotorOutput};
 
 /// Camera frame period, seconds (30 fps): the period of [`Control::step`].
@@ -19,6 +19,9 @@ pub struct Control<H = Odometry> {
     fsm: Fsm,
     heading: H,
     motors: MotorOutput,
+    /// How far the heading estimate turned in the last step, degrees: the efference copy the
+    /// network takes before the next frame (`Network::turned`).
+    turn_deg: f32,
 }
 
 impl Control<Odometry> {
@@ -36,6 +39,7 @@ impl<H: HeadingEstimator> Control<H> {
             fsm,
             heading,
             motors: MotorOutput::new(),
+            turn_deg: 0.0,
         }
     }
 
@@ -50,13 +54,21 @@ impl<H: HeadingEstimator> Control<H> {
         } else {
             (0.0, 0.0)
         };
+        let before = self.heading.heading_deg();
         self.heading.update(l, r, FRAME_PERIOD_S);
+        self.turn_deg = wrap_deg(self.heading.heading_deg() - before);
         (c, frames)
     }
 
     /// The frames that stop the motors now (a fault between frames).
     pub fn stop(&mut self) -> MotorFrames {
         self.motors.update(false, 0.0, 0.0)
+    }
+
+    /// How far the robot turned in the last step by its heading estimate, degrees (positive =
+    /// right): what the network is told before the next frame ([`crate::Network::turned`]).
+    pub fn last_turn_deg(&self) -> f32 {
+        self.turn_deg
     }
 
     /// The FSM.
@@ -111,7 +123,15 @@ mod tests {
         assert!(alert.alert);
         c.step(&alert, false);
         assert_eq!(c.heading().heading_deg(), 0.0, "held motors: no turn");
+        assert_eq!(c.last_turn_deg(), 0.0);
         c.step(&alert, true);
         assert!(c.heading().heading_deg().abs() > 1.0, "spinning");
+        // the turn of the step is the heading's change: 360°/s for a frame
+        assert_eq!(c.last_turn_deg(), c.heading().heading_deg());
+        assert!(
+            (c.last_turn_deg().abs() - 12.0).abs() < 1.0,
+            "{}",
+            c.last_turn_deg()
+        );
     }
 }

@@ -1,0 +1,445 @@
+//! Efference copy of the robot's own turns (a closed-loop mechanism, not in the paper).
+//!
+//! The robot knows how far it turned between two frames (the yaw it commanded, or its gyro).
+//! A turn moves every point of a still scene across the image by a known amount that does not
+//! depend on its distance, so the flow it causes can be predicted exactly and cancelled before
+//! the correlators see it: the retina's memory of the last frame (`P(t−1)` and the ON/OFF means
+//! with their delay line, Eq. 6) is re-registered to the new heading, as if the eye had not
+//! turned. A fly does the equivalent with saccade-related efference copies that cancel the
+//! expected rotational response of its motion-sensitive neurons (Kim, Fitzgerald and Maimon,
+//! Nat. Neurosci. 2015). Translation flow depends on distance and is left to the network:
+//! what remains after a turn is what moved relative to the robot's position.
+//!
+//! Geometry: the pinhole camera of `docs/hardware.md` (the 99x72 window spans [`HFOV_DEG`]
+//! between the centres of its outermost columns; square pixels, optical axis level through
+//! the image centre). A turn by `δ` (positive = right) shows at new column `x`, bearing
+//! `θ = atan((x − c)/f)`, what the old frame had at bearing `θ + δ`:
+//!
+//! ```text
+//! x_old = c + f·(t + T)/(1 − t·T)            t = (x − c)/f,  T = tan δ
+//! y_old − c_y = (y − c_y) · cos θ / cos(θ + δ) = (y − c_y) · √((1 + t_old²)/(1 + t²))
+//! ```
+//!
+//! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
+//! Nearest-pixel remap, done in place in two separable passes (rows, then columns) whose
+//! visiting order never reads a pixel already written. What came into view has no past:
+//! the means and delay line there are 0 and `P(t−1)` takes the new frame's pixels
+//! ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so new content is not
+//! mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a turn also moves
+//! it sideways by a few mm; that parallax is not predicted.
+
+use crate::frame::{HEIGHT, PIXELS, WIDTH};
+
+/// Horizontal field of view between the centres of the outermost columns, degrees
+/// (`docs/hardware.md`: the OV7670 lens's ≈ 70° on the 99-column window).
+pub const HFOV_DEG: f32 = 70.0;
+/// Centre column `c` of the image.
+const CX: f32 = (WIDTH as f32 - 1.0) / 2.0;
+/// Focal length in pixels, `c / tan 35°`.
+pub const FOCAL_PX: f32 = 69.979_25;
+/// Centre row `c_y`, doubled: `2·c_y = HEIGHT − 1`.
+const CY2: i32 = HEIGHT as i32 - 1;
+/// Largest turn between two frames that is re-registered, degrees (900°/s at 30 fps); a larger
+/// one, or a non-finite one, leaves too little of the old frame in view: the network primes
+/// again instead.
+pub const MAX_TURN_DEG: f32 = 30.0;
+
+/// One turn between two frames, as the remap uses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Turn {
+    /// `T = tan δ`.
+    tan: f32,
+}
+
+impl Turn {
+    /// The turn by `deg` degrees (positive = right); `None` if it is not finite or larger than
+    /// [`MAX_TURN_DEG`].
+    pub fn new(deg: f32) -> Option<Turn> {
+        (deg.is_finite() && deg.abs() <= MAX_TURN_DEG).then(|| Turn {
+            tan: libm::tanf(deg.to_radians()),
+        })
+    }
+
+    /// Whether the turn moves no pixel.
+    pub fn is_none(&self) -> bool {
+        self.tan == 0.0
+    }
+
+    /// Where the old frame's bearing lies, as `t_old = tan(θ + δ)`, for new column `x`
+    /// (`None` beyond 90°, where nothing of the old view can be).
+    fn source_tan(&self, x: usize) -> Option<f32> {
+        let t = (x as f32 - CX) / FOCAL_PX;
+        let den = 1.0 - t * self.tan;
+        (den > 1e-3).then(|| (t + self.tan) / den)
+    }
+
+    /// Where a point of the old frame at `(x, y)` appears in the new one (the inverse map, for
+    /// the attention fields' centroids), clamped into the image.
+    pub fn moved(&self, x: u8, y: u8) -> (u8, u8) {
+        let to = (f32::from(x) - CX) / FOCAL_PX;
+        let den = 1.0 + to * self.tan;
+        let t = if den > 1e-3 {
+            (to - self.tan) / den
+        } else if self.tan > 0.0 {
+            -1e3
+        } else {
+            1e3
+        };
+        let nx = (CX + FOCAL_PX * t).clamp(0.0, (WIDTH - 1) as f32);
+        let s = libm::sqrtf((1.0 + t * t) / (1.0 + to * to));
+        let cy = CY2 as f32 / 2.0;
+        let ny = (cy + (f32::from(y) - cy) * s).clamp(0.0, (HEIGHT - 1) as f32);
+        (libm::roundf(nx) as u8, libm::roundf(ny) as u8)
+    }
+}
+
+/// A pixel the remap can take from between two source pixels.
+pub trait Pixel: Copy {
+    /// Take the nearest source pixel rather than interpolate.
+    const NEAREST: bool;
+    /// Source offsets below this (Q8 pixels) leave a pixel as it is in the column pass.
+    const MIN_SHIFT_Q8: u32;
+    /// The value `frac` (Q8) of the way from `a` to `b`.
+    fn between(a: Self, b: Self, frac: u32) -> Self;
+}
+
+impl Pixel for u8 {
+    /// Grey levels interpolate, so a turn by a fraction of a pixel leaves no change.
+    const NEAREST: bool = false;
+    /// A sixteenth of a pixel.
+    const MIN_SHIFT_Q8: u32 = 16;
+    #[inline(always)]
+    fn between(a: u8, b: u8, frac: u32) -> u8 {
+        let (a, b) = (a as i32, b as i32);
+        (a + (((b - a) * frac as i32 + 128) >> 8)) as u8
+    }
+}
+
+impl Pixel for u32 {
+    /// A cell packs four means: the nearest.
+    const NEAREST: bool = true;
+    /// Half a pixel: below it the nearest pixel is the pixel itself.
+    const MIN_SHIFT_Q8: u32 = 128;
+    #[inline(always)]
+    fn between(a: u32, b: u32, frac: u32) -> u32 {
+        if frac < 128 {
+            a
+        } else {
+            b
+        }
+    }
+}
+
+/// No source column.
+pub const OUTSIDE: u16 = u16::MAX;
+const _: () = assert!(((WIDTH - 1) << 8) < OUTSIDE as usize);
+
+/// A turn's remap, per new column: where its pixels come from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Map {
+    /// Whether the turn is to the right (the row pass's visiting order).
+    right: bool,
+    /// The old frame's column, Q8 ([`OUTSIDE`] where none).
+    src: [u16; WIDTH],
+    /// The same to the nearest column (`u8::MAX` where none).
+    near: [u8; WIDTH],
+    /// The vertical factor, Q12.
+    scale: [u16; WIDTH],
+}
+
+impl Map {
+    /// The map of `turn`.
+    pub fn new(turn: &Turn) -> Map {
+        let mut m = Map {
+            right: turn.tan > 0.0,
+            src: [OUTSIDE; WIDTH],
+            near: [u8::MAX; WIDTH],
+            scale: [4096; WIDTH],
+        };
+        for x in 0..WIDTH {
+            let Some(to) = turn.source_tan(x) else {
+                continue;
+            };
+            let t = (x as f32 - CX) / FOCAL_PX;
+            // ≤ 1/cos(35° + 30°) < 2.4 inside the limits; bounded anyway
+            let s = libm::sqrtf((1.0 + to * to) / (1.0 + t * t)).clamp(0.25, 4.0);
+            m.scale[x] = (s * 4096.0) as u16;
+            let q = (CX + FOCAL_PX * to) * 256.0;
+            if (0.0..=((WIDTH - 1) * 256) as f32).contains(&q) {
+                let q = libm::roundf(q) as u16;
+                m.src[x] = q;
+                m.near[x] = ((q + 128) >> 8) as u8;
+            }
+        }
+        m
+    }
+
+    /// The old frame's column seen at new column `x`, in pixels (`None` outside).
+    pub fn source_column(&self, x: usize) -> Option<f32> {
+        self.src
+            .get(x)
+            .filter(|&&c| c != OUTSIDE)
+            .map(|&c| f32::from(c) / 256.0)
+    }
+
+    /// The new columns that show nothing of the old frame, as `lo..hi` (empty when none):
+    /// they lie at one side, the one the robot turned towards.
+    pub fn fresh_columns(&self) -> (u8, u8) {
+        let mut lo = WIDTH;
+        let mut hi = 0;
+        for (x, &c) in self.src.iter().enumerate() {
+            if c == OUTSIDE {
+                lo = lo.min(x);
+                hi = x + 1;
+            }
+        }
+        if lo >= hi {
+            (0, 0)
+        } else {
+            (lo as u8, hi as u8)
+        }
+    }
+
+    /// Re-registers an image of the old frame to the new heading, in place: the row pass, then
+    /// the column pass. Pixels with no source take `fill`, or, with `fill = None`, the nearest
+    /// pixel of their row or column.
+    pub fn remap<T: Pixel>(&self, img: &mut [T; PIXELS], fill: Option<T>) {
+        self.rows(img, fill);
+        for (x, &s) in self.scale.iter().enumerate() {
+            column(img, x, i32::from(s), fill);
+        }
+    }
+
+    /// The row pass. Turning right every source column lies right of its destination
+    /// (`x_old > x`), so visiting left to right never reads a pixel already written (both
+    /// neighbours of a source lie at or right of it); turning left, right to left.
+    fn rows<T: Pixel>(&self, img: &mut [T; PIXELS], fill: Option<T>) {
+        let right = self.right;
+        for row in img.chunks_exact_mut(WIDTH) {
+            let Ok(row) = <&mut [T; WIDTH]>::try_from(row) else {
+                continue;
+            };
+            // without a fill, the nearest column of the old frame: its edge on the side
+            // turned towards (the last one written)
+            let outside = fill.unwrap_or(row[if right { WIDTH - 1 } else { 0 }]);
+            let one = |row: &mut [T; WIDTH], x: usize| {
+                let v = if T::NEAREST {
+                    row.get(usize::from(self.near[x]))
+                        .copied()
+                        .unwrap_or(outside)
+                } else {
+                    let c = self.src[x];
+                    let i = usize::from(c >> 8);
+                    match row.get(i) {
+                        Some(&a) => {
+                            let b = row.get(i + 1).copied().unwrap_or(a);
+                            T::between(a, b, u32::from(c & 0xFF))
+                        }
+                        None => outside,
+                    }
+                };
+                row[x] = v;
+            };
+            if right {
+                for x in 0..WIDTH {
+                    one(row, x);
+                }
+            } else {
+                for x in (0..WIDTH).rev() {
+                    one(row, x);
+                }
+            }
+        }
+    }
+}
+
+/// The column pass on column `x` with vertical factor `s` (Q12): new row `y` takes old row
+/// `c_y + (y − c_y)·s` (Q8, between its two neighbours). Rows are visited in pairs at the same
+/// distance `d = |2y − 2c_y|` from the centre line, one in each half. With `s ≥ 1` the source
+/// lies farther from the centre line, so the pairs go from the centre outwards; with `s < 1`
+/// from the edges inwards. Either way a source and its neighbour are read before they are
+/// written, and each half reads only itself. Rows whose source lies less than
+/// [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
+fn column<T: Pixel>(img: &mut [T; PIXELS], x: usize, s_q12: i32, fill: Option<T>) {
+    let ds = (s_q12 - 4096).unsigned_abs();
+    if ds == 0 {
+        return;
+    }
+    // the source offset of a row at distance d is d·|s − 1|/2 pixels = d·ds >> 5 in Q8
+    let Ok(first) = i32::try_from((T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1) else {
+        return;
+    };
+    let pair = |img: &mut [T; PIXELS], d: i32| {
+        let (top, bottom) = ((CY2 - d) / 2, (CY2 + d) / 2);
+        put(
+            img,
+            x,
+            top as usize,
+            ((CY2 << 12) - d * s_q12) >> 5,
+            true,
+            fill,
+        );
+        put(
+            img,
+            x,
+            bottom as usize,
+            ((CY2 << 12) + d * s_q12) >> 5,
+            false,
+            fill,
+        );
+    };
+    // the odd distances d from `first` to 71 are the rows that move
+    if s_q12 >= 4096 {
+        (first..=CY2).step_by(2).for_each(|d| pair(img, d));
+    } else {
+        (first..=CY2).rev().step_by(2).for_each(|d| pair(img, d));
+    }
+}
+
+/// Row `y` of column `x` takes old row `q` (Q8) of its half (`upper`: rows 0–35).
+#[inline(always)]
+fn put<T: Pixel>(img: &mut [T; PIXELS], x: usize, y: usize, q: i32, upper: bool, fill: Option<T>) {
+    const LAST: i32 = (HEIGHT as i32 - 1) << 8;
+    const HALF: i32 = (HEIGHT as i32 / 2) << 8;
+    // within half a pixel of the image, its edge row; within the centre line's half pixel,
+    // the half's own row
+    let (lo, hi) = if upper { (0, HALF - 256) } else { (HALF, LAST) };
+    let v = if (-128..=LAST + 128).contains(&q) {
+        let q = q.clamp(lo, hi);
+        if T::NEAREST {
+            let i = ((q + 128).min(hi) >> 8) as usize;
+            img.get(i * WIDTH + x).copied()
+        } else {
+            let i = (q >> 8) as usize;
+            let j = if q < hi { i + 1 } else { i };
+            match (img.get(i * WIDTH + x), img.get(j * WIDTH + x)) {
+                (Some(&a), Some(&b)) => Some(T::between(a, b, (q & 0xFF) as u32)),
+                _ => None,
+            }
+        }
+    } else {
+        fill.or_else(|| {
+            img.get((if upper { lo } else { hi } >> 8) as usize * WIDTH + x)
+                .copied()
+        })
+    };
+    if let (Some(v), Some(p)) = (v, img.get_mut(y * WIDTH + x)) {
+        *p = v;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_turn_is_the_identity() {
+        let t = Turn::new(0.0).unwrap();
+        assert!(t.is_none());
+        let m = Map::new(&t);
+        assert!((0..WIDTH).all(|x| m.source_column(x) == Some(x as f32)));
+        assert_eq!(m.fresh_columns(), (0, 0));
+        let mut img = [0u8; PIXELS];
+        for (i, p) in img.iter_mut().enumerate() {
+            *p = i as u8;
+        }
+        let before = img;
+        m.remap(&mut img, None);
+        assert_eq!(img, before);
+    }
+
+    #[test]
+    fn a_right_turn_brings_the_right_side_to_the_centre() {
+        assert!(Turn::new(35.0).is_none(), "beyond the limit");
+        assert!(Turn::new(f32::NAN).is_none());
+        let m = Map::new(&Turn::new(10.0).unwrap());
+        // at the centre the shift is f·tan 10° ≈ 12.34 px; at the left edge 16.37 px, where
+        // the tangent is steeper: 49 + f·tan(−25°)
+        let q = |x: usize| m.source_column(x).unwrap();
+        assert!((q(49) - 61.34).abs() < 0.01, "{}", q(49));
+        assert!((q(0) - 16.37).abs() < 0.01, "{}", q(0));
+        assert_eq!((m.near[49], m.near[0]), (61, 16));
+        // what lies beyond the old right edge column came into view (column 82 looks at
+        // old column 98.45)
+        assert_eq!(m.fresh_columns(), (82, WIDTH as u8));
+        // the inverse map takes the old column back
+        assert_eq!(Turn::new(10.0).unwrap().moved(61, 35).0, 49);
+        let left = Map::new(&Turn::new(-10.0).unwrap());
+        assert!((left.source_column(49).unwrap() - 36.66).abs() < 0.01);
+        assert_eq!(left.fresh_columns(), (0, 17));
+    }
+
+    #[test]
+    fn off_axis_columns_scale_vertically_as_the_pinhole_does() {
+        let t = Turn::new(10.0).unwrap();
+        let m = Map::new(&t);
+        // the right edge looks at 45° of the old view: cos 35° / cos 45° ≈ 1.158
+        let s = f32::from(m.scale[WIDTH - 1]) / 4096.0;
+        assert!((s - 1.158).abs() < 0.01, "{s}");
+        // a point moved into the new frame maps back to where it was
+        let (x, y) = t.moved(90, 5);
+        let back = m.source_column(usize::from(x)).unwrap();
+        assert!(
+            (back - 90.0).abs() <= 1.0 && y > 5,
+            "({x}, {y}) from {back}"
+        );
+    }
+
+    #[test]
+    fn a_horizontal_ramp_shifts_by_a_fraction_of_a_pixel() {
+        // grey = 2·column: a turn of 0.25 px at the centre shifts the ramp by half a level
+        let m = Map::new(&Turn::new(0.2).unwrap());
+        let mut img = [0u8; PIXELS];
+        for (i, p) in img.iter_mut().enumerate() {
+            *p = (2 * (i % WIDTH)) as u8;
+        }
+        m.remap(&mut img, None);
+        let shift = m.source_column(49).unwrap() - 49.0;
+        assert!((0.2..0.3).contains(&shift), "{shift}");
+        // the centre column now holds the grey of column 49 + shift, rounded
+        assert_eq!(img[35 * WIDTH + 49], (2.0 * (49.0 + shift)).round() as u8);
+    }
+
+    /// The column pass against its plain definition, for both pixel kinds.
+    fn check_column<T: Pixel + Into<u32>>(make: impl Fn(usize) -> T, nearest: bool) {
+        for s in [3000, 4000, 4096, 4200, 4700, 6000] {
+            let mut img = [make(0); PIXELS];
+            for y in 0..HEIGHT {
+                img[y * WIDTH + 7] = make(y);
+            }
+            column(&mut img, 7, s, Some(make(255)));
+            for y in 0..HEIGHT {
+                let d = 2 * y as i32 - CY2;
+                let q = (d * s + (CY2 << 12)) >> 5;
+                let got = img[y * WIDTH + 7].into() as i32;
+                let half = if y < HEIGHT / 2 {
+                    0..=35 * 256
+                } else {
+                    36 * 256..=71 * 256
+                };
+                let moved = (d.unsigned_abs() * (s - 4096).unsigned_abs()) >> 5 >= T::MIN_SHIFT_Q8;
+                let want = if !moved {
+                    3 * y as i32
+                } else if !(-128..=71 * 256 + 128).contains(&q) {
+                    make(255).into() as i32
+                } else {
+                    let q = q.clamp(*half.start(), *half.end());
+                    if nearest {
+                        3 * ((q + 128).min(*half.end()) >> 8)
+                    } else {
+                        (3 * q + 128) >> 8
+                    }
+                };
+                assert!((got - want).abs() <= 1, "s {s} y {y}: {got} vs {want}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_column_pass_reads_before_it_writes() {
+        // a column whose pixels hold 3 × their row: after the pass each holds its source
+        // row's value (interpolated or the nearest), whatever the visiting order
+        check_column(|y| (3 * y.min(85)) as u8, false);
+        check_column(|y| 3 * y as u32, true);
+    }
+}

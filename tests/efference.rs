@@ -1,0 +1,96 @@
+//! Efference copy of turns (`Params::derotate`, `alvs_tasks::model::derotate`) on the arena's
+//! rendered camera: a robot turning in place on a still scene.
+
+use alvs_host::arena::render::Renderer;
+use alvs_host::arena::world::{Pose, WallTexture, World};
+use alvs_tasks::{Network, Params};
+
+/// Mean `on + off` of the newest means, grey levels per pixel.
+fn change(net: &Network) -> f64 {
+    let cells = net.maps().cells;
+    let s: u64 = cells
+        .iter()
+        .map(|c| u64::from(c & 0xFF) + u64::from((c >> 8) & 0xFF))
+        .sum();
+    s as f64 / cells.len() as f64
+}
+
+/// Turns in place at `deg_s` for 36 frames from (600, 450) mm facing 10°, the network told
+/// each frame's turn; returns (mean change, peak ΣLPLC2, alert frames) over the frames after
+/// the first 6 (priming and warm-up).
+fn turn(derotate: u8, deg_s: f64, texture: &str) -> (f64, u32, u32) {
+    let world = World::with_texture(WallTexture::from_spec(texture).unwrap());
+    let r = Renderer::new(&world);
+    let mut net = Network::new(Params {
+        derotate,
+        ..Params::ALVS
+    })
+    .unwrap();
+    let (mut sum, mut peak, mut alerts, mut n) = (0.0, 0, 0, 0);
+    let step = deg_s / 30.0;
+    for i in 0..36 {
+        let pose = Pose::new(600.0, 450.0, 10.0 + step * i as f64);
+        if i > 0 {
+            assert!(net.turned(step as f32));
+        }
+        let p = net.step(&r.render(&[pose], 0));
+        if i > 5 {
+            sum += change(&net);
+            peak = peak.max(p.vm.lplc2_sum);
+            alerts += u32::from(p.vm.alert);
+            n += 1;
+        }
+    }
+    (sum / f64::from(n), peak, alerts)
+}
+
+#[test]
+fn a_turn_in_place_leaves_a_fraction_of_its_motion_signal() {
+    for tex in ["clutter:1", "stripes:40", "checker:60"] {
+        for rate in [45.0, 90.0, 180.0, 360.0] {
+            let (c0, p0, a0) = turn(0, rate, tex);
+            let (c1, p1, a1) = turn(1, rate, tex);
+            println!("{tex} {rate}°/s: change {c0:.1} -> {c1:.1}, peak ΣLPLC2 {p0} -> {p1}, alerts {a0} -> {a1}");
+            // what is left is the camera's sideways motion (19 mm ahead of the axis) and
+            // interpolation
+            assert!(c1 < 0.4 * c0, "{tex} {rate}: change {c0} -> {c1}");
+            assert!(p1 < p0 / 10, "{tex} {rate}: ΣLPLC2 {p0} -> {p1}");
+            assert!(a0 >= 24, "without it the turn alerts: {a0}");
+            if tex == "clutter:1" && rate <= 180.0 {
+                assert!(p1 < Params::ALVS.t_s, "no short mode: {p1}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_paper_model_ignores_turns_and_a_half_frame_refuses_one() {
+    let world = World::default();
+    let r = Renderer::new(&world);
+    let frame = r.render(&[Pose::new(600.0, 450.0, 0.0)], 0);
+    let mut paper = Network::new(Params::PAPER).unwrap();
+    paper.step(&frame);
+    let other = paper.clone();
+    assert!(paper.turned(10.0));
+    assert_eq!(
+        paper.digest(),
+        other.digest(),
+        "the paper's model: nothing moves"
+    );
+    let mut alvs = Network::new(Params::ALVS).unwrap();
+    alvs.step(&frame);
+    let before = alvs.digest();
+    assert!(alvs.turned(10.0));
+    assert_ne!(alvs.digest(), before, "the memory was re-registered");
+    // half a frame in: refused, nothing changes
+    alvs.push_row(frame[..alvs_tasks::WIDTH].try_into().unwrap())
+        .unwrap();
+    let mid = alvs.digest();
+    assert!(!alvs.turned(10.0));
+    assert_eq!(alvs.digest(), mid);
+    // too far to re-register: the next frame primes again
+    alvs.abort_frame();
+    alvs.step(&frame);
+    assert!(alvs.turned(f32::NAN));
+    assert_eq!(alvs.step(&frame).frame, 0, "primes again");
+}
