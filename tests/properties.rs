@@ -213,13 +213,14 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
         any::<u8>(),
         0u8..=1,
+        prop_oneof![3 => Just(0u8), 1 => any::<u8>()],
     );
     let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
-            (warmup, flicker_pct, blocked_change, derotate),
+            (warmup, flicker_pct, blocked_change, derotate, adapt_frames),
         )| Params {
             w,
             n,
@@ -243,6 +244,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             flicker_pct,
             blocked_change,
             derotate,
+            adapt_frames,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -307,7 +309,12 @@ fn check(p: &Params, index: usize, out: &Perception) -> Result<(), TestCaseError
     prop_assert_eq!(out.alert(), vm.alert);
     prop_assert_eq!(out.short_mode(), vm.short_mode);
     prop_assert_eq!(vm.alert, vm.lplc2_sum > 0, "{}", ctx());
-    prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{}", ctx());
+    if p.adapt_frames == 0 {
+        prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{}", ctx());
+    } else {
+        // motion adaptation can only hold the short mode back
+        prop_assert!(!vm.short_mode || vm.lplc2_sum > p.t_s, "{}", ctx());
+    }
     prop_assert!(!vm.short_mode || vm.alert, "{}", ctx());
     prop_assert!(
         vm.strength.is_finite() && (0.5..=1.0).contains(&vm.strength),

@@ -183,3 +183,31 @@ fn the_paper_model_alerts_on_strobing_flicker() {
         .collect();
     assert_eq!(counts, [12, 28]);
 }
+
+/// Motion adaptation (`Params::adapt_frames`): a steady stimulus — here the fine grating the
+/// known limitation above alerts on — holds the paper's model in short mode from frame 4 to
+/// the end; the default's short mode switches off once the running mean has caught up with the
+/// steady response (frame 24, 0.7 s) and stays off but for single frames (the alerts remain:
+/// adaptation gates only the short mode).
+#[test]
+fn a_steady_stimulus_adapts_out_of_short_mode() {
+    let frames = grating(8.0, 1.5, 128.0, 60.0, false, true);
+    let short = |p: Params| {
+        let mut net = Network::new(p).unwrap();
+        let outs: Vec<Perception> = frames.iter().map(|f| net.step(f)).collect();
+        let on: Vec<usize> = (0..outs.len()).filter(|&i| outs[i].short_mode()).collect();
+        (on, alerts(&outs))
+    };
+    let (paper, paper_alerts) = short(Params::PAPER);
+    let (adapted, alvs_alerts) = short(Params::default());
+    println!(
+        "short mode: paper {paper:?}, default {adapted:?}; alerts {paper_alerts} / {alvs_alerts}"
+    );
+    assert!(
+        paper.len() >= 50,
+        "steady short mode without adaptation: {paper:?}"
+    );
+    let late = adapted.iter().filter(|&&i| i >= 30).count();
+    assert!(late <= 3, "adapted after a second: {adapted:?}");
+    assert!(alvs_alerts >= 40, "still seen: {alvs_alerts}");
+}

@@ -28,6 +28,10 @@ use crate::model::visuomotor::Visuomotor;
 /// capacity is never the limit with the paper's parameters.
 pub const MAX_AFS: usize = 6;
 
+/// Motion adaptation (`Params::adapt_frames`): the short mode needs `ΣLPLC2` above this many
+/// times its running mean.
+pub const ADAPT_RATIO: f32 = 2.0;
+
 /// One attention field's output for a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct AfReport {
@@ -91,6 +95,8 @@ pub struct Network {
     retina: Retina,
     frames: u32,
     fields: Fields,
+    /// Running mean of `ΣLPLC2` (`Params::adapt_frames`).
+    adapted: f32,
 }
 
 impl Network {
@@ -104,6 +110,7 @@ impl Network {
             retina: Retina::new(delay_q8(&params)),
             frames: 0,
             fields: Fields::default(),
+            adapted: 0.0,
         })
     }
 
@@ -129,6 +136,7 @@ impl Network {
             retina: Retina::new(delay_q8(&p)),
             frames: 0,
             fields: Fields::new(),
+            adapted: 0.0,
         }
     }
 
@@ -147,6 +155,7 @@ impl Network {
         self.frames = 0;
         self.retina.reset();
         self.fields.clear();
+        self.adapted = 0.0;
     }
 
     /// The parameters in use.
@@ -327,6 +336,12 @@ impl Network {
             }
         }
         let mut vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
+        if p.adapt_frames > 0 {
+            // motion adaptation: the short mode needs a response above twice its recent mean
+            let sum = vm.lplc2_sum as f32;
+            vm.short_mode &= sum > ADAPT_RATIO * self.adapted;
+            self.adapted += (sum - self.adapted) / f32::from(p.adapt_frames);
+        }
         if p.blocked_change > 0 {
             vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
         }

@@ -82,6 +82,11 @@ pub struct Params {
     /// ([`crate::model::derotate`]); 0 ignores the reports (the paper). See `docs/model.md`,
     /// "Closed-loop mechanisms".
     pub derotate: u8,
+    /// Motion adaptation of the short mode: with `N` > 0 the short mode also needs `ΣLPLC2`
+    /// above twice its running mean over about `N` frames, so a steady response (the robot's
+    /// own translation past textured walls) does not keep it on while a growing one (looming)
+    /// does. 0 turns it off (the paper). See `docs/model.md`, "Closed-loop mechanisms".
+    pub adapt_frames: u8,
 }
 
 impl Params {
@@ -109,6 +114,7 @@ impl Params {
         flicker_pct: 0,
         blocked_change: 0,
         derotate: 0,
+        adapt_frames: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -118,6 +124,7 @@ impl Params {
         warmup: 4,
         flicker_pct: 50,
         derotate: 1,
+        adapt_frames: 30,
         ..Params::PAPER
     };
 
@@ -142,7 +149,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 22] = [
+    pub const NAMES: [&'static str; 23] = [
         "w",
         "n",
         "r_af",
@@ -165,12 +172,13 @@ impl Params {
         "flicker_pct",
         "blocked_change",
         "derotate",
+        "adapt_frames",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 22] = [
+    pub const RANGES: [Range; 23] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -193,6 +201,7 @@ impl Params {
         Range::Int(0, 100),
         Range::Int(0, 255),
         Range::Int(0, 1),
+        Range::Int(0, 255),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -217,6 +226,7 @@ impl Params {
         check_int("flicker_pct", self.flicker_pct.into())?;
         check_int("blocked_change", self.blocked_change.into())?;
         check_int("derotate", self.derotate.into())?;
+        check_int("adapt_frames", self.adapt_frames.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -265,8 +275,9 @@ impl Params {
             "warmup" => p.warmup = int(name, v)?,
             "flicker_pct" => p.flicker_pct = int(name, v)?,
             "blocked_change" => p.blocked_change = int(name, v)?,
+            "derotate" => p.derotate = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.derotate = int(name, v)?,
+            _ => p.adapt_frames = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -432,9 +443,10 @@ mod tests {
                 paper.warmup,
                 paper.flicker_pct,
                 paper.blocked_change,
-                paper.derotate
+                paper.derotate,
+                paper.adapt_frames
             ),
-            (0, 0, 0, 0),
+            (0, 0, 0, 0, 0),
             "the paper has none"
         );
         // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
@@ -443,9 +455,10 @@ mod tests {
                 alvs.warmup,
                 alvs.flicker_pct,
                 alvs.blocked_change,
-                alvs.derotate
+                alvs.derotate,
+                alvs.adapt_frames
             ),
-            (4, 50, 0, 1)
+            (4, 50, 0, 1, 30)
         );
         // everything else is the paper's
         assert_eq!(
@@ -454,6 +467,7 @@ mod tests {
                 flicker_pct: 0,
                 blocked_change: 0,
                 derotate: 0,
+                adapt_frames: 0,
                 ..alvs
             },
             paper
