@@ -61,7 +61,7 @@ impl Turn {
     }
 
     /// Whether the turn moves no pixel.
-    pub fn is_none(&self) -> bool {
+    pub fn is_zero(&self) -> bool {
         self.tan == 0.0
     }
 
@@ -335,7 +335,7 @@ mod tests {
     #[test]
     fn no_turn_is_the_identity() {
         let t = Turn::new(0.0).unwrap();
-        assert!(t.is_none());
+        assert!(t.is_zero());
         let m = Map::new(&t);
         assert!((0..WIDTH).all(|x| m.source_column(x) == Some(x as f32)));
         assert_eq!(m.fresh_columns(), (0, 0));

@@ -226,7 +226,7 @@ impl Network {
             return true;
         }
         match Turn::new(yaw_deg) {
-            Some(t) if t.is_none() => {}
+            Some(t) if t.is_zero() => {}
             Some(t) => {
                 self.retina.turn(&t);
                 for f in self.fields.iter_mut() {

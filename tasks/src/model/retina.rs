@@ -193,7 +193,7 @@ impl Retina {
     /// robot since the last frame ([`crate::model::derotate`]); between frames only (the caller checks).
     /// Means with no past (what came into view) are 0.
     pub fn turn(&mut self, turn: &Turn) {
-        if !self.primed || turn.is_none() {
+        if !self.primed || turn.is_zero() {
             return;
         }
         let map = Map::new(turn);
