@@ -370,6 +370,12 @@ mod tests {
     }
 
     #[test]
+    fn the_outermost_columns_lie_at_half_the_field_of_view() {
+        let edge = libm::atanf(CX / FOCAL_PX).to_degrees();
+        assert!((2.0 * edge - HFOV_DEG).abs() < 1e-3, "{edge}");
+    }
+
+    #[test]
     fn off_axis_columns_scale_vertically_as_the_pinhole_does() {
         let t = Turn::new(10.0).unwrap();
         let m = Map::new(&t);
