@@ -269,31 +269,30 @@ fn column<T: Pixel>(img: &mut [T; PIXELS], x: usize, s_q12: i32, fill: Option<T>
     let Ok(first) = i32::try_from((T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1) else {
         return;
     };
-    let pair = |img: &mut [T; PIXELS], d: i32| {
-        let (top, bottom) = ((CY2 - d) / 2, (CY2 + d) / 2);
-        put(
-            img,
-            x,
-            top as usize,
-            ((CY2 << 12) - d * s_q12) >> 5,
-            true,
-            fill,
-        );
-        put(
-            img,
-            x,
-            bottom as usize,
-            ((CY2 << 12) + d * s_q12) >> 5,
-            false,
-            fill,
-        );
-    };
     // the odd distances d from `first` to 71 are the rows that move
     if s_q12 >= 4096 {
-        (first..=CY2).step_by(2).for_each(|d| pair(img, d));
+        let mut d = first;
+        while d <= CY2 {
+            pair(img, x, d, s_q12, fill);
+            d += 2;
+        }
     } else {
-        (first..=CY2).rev().step_by(2).for_each(|d| pair(img, d));
+        let mut d = CY2;
+        while d >= first {
+            pair(img, x, d, s_q12, fill);
+            d -= 2;
+        }
     }
+}
+
+/// The two rows of column `x` at distance `d` from the centre line (inlined: a call per pair
+/// would cost more than the pair).
+#[inline(always)]
+fn pair<T: Pixel>(img: &mut [T; PIXELS], x: usize, d: i32, s_q12: i32, fill: Option<T>) {
+    let (top, bottom) = ((CY2 - d) / 2, (CY2 + d) / 2);
+    let q = d * s_q12;
+    put(img, x, top as usize, ((CY2 << 12) - q) >> 5, true, fill);
+    put(img, x, bottom as usize, ((CY2 << 12) + q) >> 5, false, fill);
 }
 
 /// Row `y` of column `x` takes old row `q` (Q8) of its half (`upper`: rows 0–35).
