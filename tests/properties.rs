@@ -214,13 +214,14 @@ fn valid_params() -> impl Strategy<Value = Params> {
         any::<u8>(),
         0u8..=1,
         prop_oneof![3 => Just(0u8), 1 => any::<u8>()],
+        prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
     let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
-            (warmup, flicker_pct, blocked_change, derotate, adapt_frames),
+            (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct),
         )| Params {
             w,
             n,
@@ -245,6 +246,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             blocked_change,
             derotate,
             adapt_frames,
+            q_grow_pct,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]

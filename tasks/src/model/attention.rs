@@ -36,6 +36,8 @@ pub struct Field {
     pub y: u8,
     /// Frames this field has lived through (1 in its first frame).
     pub age: u32,
+    /// The quadrant sum `ΣQ` of its last frame, gate or not (`Params::q_grow_pct`).
+    pub drive: u32,
     /// LPLC2 responses of the last `MAX_D` frames, newest at `head`.
     history: [u32; MAX_D as usize],
     /// Slot of the newest response; wraps independently of `age`, which saturates.
@@ -49,6 +51,7 @@ impl Field {
             x: x as u8,
             y: y as u8,
             age: 0,
+            drive: 0,
             history: [0; MAX_D as usize],
             head: 0,
         }

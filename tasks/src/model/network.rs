@@ -303,6 +303,14 @@ impl Network {
             &mut lplc,
         );
         mark(Stage::Motion);
+        // `Params::q_grow_pct`: a partial opening needs a growing drive
+        let gate = lplc2::Gate::of(&p);
+        for (f, l) in self.fields.iter_mut().zip(lplc.iter_mut()) {
+            if !lplc2::partial_opening_grows(l.quadrants, &gate, f.drive, p.q_grow_pct) {
+                l.response = 0;
+            }
+            f.drive = l.quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q));
+        }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
         // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.
         if index < u32::from(p.warmup) || luminance::is_event(maps.cells, p.flicker_pct) {

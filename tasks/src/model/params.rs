@@ -87,6 +87,13 @@ pub struct Params {
     /// own translation past textured walls) does not keep it on while a growing one (looming)
     /// does. 0 turns it off (the paper). See `docs/model.md`, "Closed-loop mechanisms".
     pub adapt_frames: u8,
+    /// Growth of a partial opening: when fewer than four quadrants are excited (an opening
+    /// that `q_arms` < 4 allows), the field's quadrant sum must also have grown by at least
+    /// this many percent since the last frame. A looming object's drive grows; a receding one's,
+    /// and the residue a finished threat leaves, do not. 0 turns it off: the paper, and the
+    /// default (with `q_arms=3` it lifts the arena but breaks two closed-loop direction tests,
+    /// `docs/experiments.md`). See `docs/model.md`, "Closed-loop mechanisms".
+    pub q_grow_pct: u8,
 }
 
 impl Params {
@@ -115,6 +122,7 @@ impl Params {
         blocked_change: 0,
         derotate: 0,
         adapt_frames: 0,
+        q_grow_pct: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -149,7 +157,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 23] = [
+    pub const NAMES: [&'static str; 24] = [
         "w",
         "n",
         "r_af",
@@ -173,12 +181,13 @@ impl Params {
         "blocked_change",
         "derotate",
         "adapt_frames",
+        "q_grow_pct",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 23] = [
+    pub const RANGES: [Range; 24] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -201,6 +210,7 @@ impl Params {
         Range::Int(0, 100),
         Range::Int(0, 255),
         Range::Int(0, 1),
+        Range::Int(0, 255),
         Range::Int(0, 255),
     ];
 
@@ -227,6 +237,7 @@ impl Params {
         check_int("blocked_change", self.blocked_change.into())?;
         check_int("derotate", self.derotate.into())?;
         check_int("adapt_frames", self.adapt_frames.into())?;
+        check_int("q_grow_pct", self.q_grow_pct.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -276,8 +287,9 @@ impl Params {
             "flicker_pct" => p.flicker_pct = int(name, v)?,
             "blocked_change" => p.blocked_change = int(name, v)?,
             "derotate" => p.derotate = int(name, v)?,
+            "adapt_frames" => p.adapt_frames = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.adapt_frames = int(name, v)?,
+            _ => p.q_grow_pct = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -444,9 +456,10 @@ mod tests {
                 paper.flicker_pct,
                 paper.blocked_change,
                 paper.derotate,
-                paper.adapt_frames
+                paper.adapt_frames,
+                paper.q_grow_pct
             ),
-            (0, 0, 0, 0, 0),
+            (0, 0, 0, 0, 0, 0),
             "the paper has none"
         );
         // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
@@ -456,9 +469,10 @@ mod tests {
                 alvs.flicker_pct,
                 alvs.blocked_change,
                 alvs.derotate,
-                alvs.adapt_frames
+                alvs.adapt_frames,
+                alvs.q_grow_pct
             ),
-            (4, 50, 0, 1, 30)
+            (4, 50, 0, 1, 30, 0)
         );
         // everything else is the paper's
         assert_eq!(

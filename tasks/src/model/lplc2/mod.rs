@@ -94,17 +94,33 @@ pub fn quadrant_of(x: usize, y: usize, cx: usize, cy: usize) -> Option<usize> {
 /// gratings flood two arms and leak into the other two). The gate opens when at least
 /// `g.arms` quadrants are excited (Eq. 9: all four).
 pub fn gate(quadrants: [u32; 4], g: &Gate) -> u32 {
-    let max = quadrants.iter().copied().max().unwrap_or(0);
-    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
-    let excited = quadrants
-        .iter()
-        .filter(|&&q| q > g.floor && u64::from(q) >= rel)
-        .count();
-    if excited >= usize::from(g.arms) {
+    if excited(quadrants, g) >= usize::from(g.arms) {
         quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q))
     } else {
         0
     }
+}
+
+/// How many quadrants are excited: above the floor and at least `g.balance` % of the
+/// strongest.
+pub fn excited(quadrants: [u32; 4], g: &Gate) -> usize {
+    let max = quadrants.iter().copied().max().unwrap_or(0);
+    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
+    quadrants
+        .iter()
+        .filter(|&&q| q > g.floor && u64::from(q) >= rel)
+        .count()
+}
+
+/// `Params::q_grow_pct`: a partial opening of the gate (fewer than four excited quadrants)
+/// stands only if the field's quadrant sum grew by at least `pct` % over `last`, its sum of
+/// the frame before.
+pub fn partial_opening_grows(quadrants: [u32; 4], g: &Gate, last: u32, pct: u8) -> bool {
+    if pct == 0 || excited(quadrants, g) >= 4 {
+        return true;
+    }
+    let sum = quadrants.iter().fold(0u64, |a, &q| a + u64::from(q));
+    sum * 100 > u64::from(last) * (100 + u64::from(pct))
 }
 
 /// Eqs. (8)–(9) for the field centred at `(cx, cy)` whose square spans columns `x0..=x1` and

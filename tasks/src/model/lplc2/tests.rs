@@ -225,3 +225,25 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_partial_opening_stands_only_on_a_growing_drive() {
+    let g = Gate {
+        floor: 250,
+        balance: 15,
+        arms: 3,
+    };
+    // three arms excited, the fourth silent: the gate opens on 3 of 4
+    let three = [1000, 1000, 1000, 0];
+    assert_eq!(gate(three, &g), 3000);
+    // off: always stands
+    assert!(partial_opening_grows(three, &g, 10_000, 0));
+    // the drive grew from 1,900 to 3,000 (+58 %): stands; from 2,000 (+50 %): not more than half
+    assert!(partial_opening_grows(three, &g, 1_900, 50));
+    assert!(!partial_opening_grows(three, &g, 2_000, 50));
+    // a steady or falling drive (a receding object, a finished threat's residue): refused
+    assert!(!partial_opening_grows(three, &g, 3_000, 50));
+    assert!(!partial_opening_grows(three, &g, 9_000, 50));
+    // four excited arms are Eq. (9)'s full opening: no growth needed
+    assert!(partial_opening_grows([1000; 4], &g, 9_000, 50));
+}
