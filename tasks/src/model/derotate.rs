@@ -21,20 +21,19 @@
 //! ```
 //!
 //! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
-//! Nearest-pixel remap, done in place in two separable passes (rows, then columns) whose
-//! visiting order never reads a pixel already written. What came into view has no past:
+//! The remap is done in place in two separable passes (rows, then columns) whose visiting
+//! order never reads a pixel already written: `P(t−1)` interpolated between its two nearest
+//! source pixels, the cells (four packed means each) from the nearest one. What came into view has no past:
 //! the means and delay line there are 0 and `P(t−1)` takes the new frame's pixels
 //! ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so new content is not
 //! mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a turn also moves
 //! it sideways by a few mm; that parallax is not predicted.
 
-use crate::frame::{HEIGHT, PIXELS, WIDTH};
+use crate::frame::{CENTRE_X as CX, HEIGHT, PIXELS, WIDTH};
 
 /// Horizontal field of view between the centres of the outermost columns, degrees
 /// (`docs/hardware.md`: the OV7670 lens's ≈ 70° on the 99-column window).
 pub const HFOV_DEG: f32 = 70.0;
-/// Centre column `c` of the image.
-const CX: f32 = (WIDTH as f32 - 1.0) / 2.0;
 /// Focal length in pixels, `c / tan 35°`.
 pub const FOCAL_PX: f32 = 69.979_25;
 /// Centre row `c_y`, doubled: `2·c_y = HEIGHT − 1`.

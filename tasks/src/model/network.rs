@@ -309,7 +309,7 @@ impl Network {
             if !lplc2::partial_opening_grows(l.quadrants, &gate, f.drive, p.q_grow_pct) {
                 l.response = 0;
             }
-            f.drive = l.quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q));
+            f.drive = lplc2::drive(l.quadrants);
         }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
         // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.

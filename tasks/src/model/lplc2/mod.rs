@@ -95,10 +95,15 @@ pub fn quadrant_of(x: usize, y: usize, cx: usize, cy: usize) -> Option<usize> {
 /// `g.arms` quadrants are excited (Eq. 9: all four).
 pub fn gate(quadrants: [u32; 4], g: &Gate) -> u32 {
     if excited(quadrants, g) >= usize::from(g.arms) {
-        quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q))
+        drive(quadrants)
     } else {
         0
     }
+}
+
+/// `ΣQ`, saturating: what an open gate passes on, and a field's drive (`Params::q_grow_pct`).
+pub fn drive(quadrants: [u32; 4]) -> u32 {
+    quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q))
 }
 
 /// How many quadrants are excited: above the floor and at least `g.balance` % of the
