@@ -94,3 +94,33 @@ fn the_paper_model_ignores_turns_and_a_half_frame_refuses_one() {
     assert!(alvs.turned(f32::NAN));
     assert_eq!(alvs.step(&frame).frame, 0, "primes again");
 }
+
+/// `Params::q_grow_pct` compares a field's quadrant sum with its sum at the same place: a turn
+/// moves the place with the view, so it is not a jump, while recentring onto something else
+/// is ([`alvs_tasks::model::lplc2::GROW_SHIFT_PX`]).
+#[test]
+fn a_turn_moves_where_each_field_drive_was_measured() {
+    let world = World::default();
+    let r = Renderer::new(&world);
+    let mut net = Network::new(Params::ALVS).unwrap();
+    let mut moved = 0;
+    for i in 0..12 {
+        if i > 0 {
+            let before: Vec<(u8, u8)> = net.fields().iter().map(|f| (f.x, f.y)).collect();
+            assert!(net.turned(5.0));
+            for (f, b) in net.fields().iter().zip(before) {
+                assert_eq!(f.shift_since_drive(), 0, "field {} left its drive", f.id);
+                moved += usize::from((f.x, f.y) != b);
+            }
+        }
+        net.step(&r.render(&[Pose::new(600.0, 450.0, 5.0 * i as f64)], 0));
+        for f in net.fields().iter() {
+            assert_eq!(
+                f.drive_at,
+                (f.x, f.y),
+                "a frame measures the drive where it is"
+            );
+        }
+    }
+    assert!(moved > 5, "fields the turns moved: {moved}");
+}

@@ -38,8 +38,8 @@ pub struct FirmwareRobot {
 pub const BOOT_CYCLES: u64 = 90_000_000;
 
 impl FirmwareRobot {
-    /// Boots the firmware `elf` (for [`BOOT_CYCLES`], looking at a grey scene) and returns the
-    /// controller, with a handle on the board's error, if it fails.
+    /// Returns the controller of the firmware `elf`, with a handle on the board's error, if it
+    /// fails. The board boots at the first frame (for [`BOOT_CYCLES`], looking at that frame).
     pub fn new(elf: Vec<u8>, config: Config) -> (FirmwareRobot, Arc<Mutex<Option<String>>>) {
         let (frames_tx, frames_rx) = channel::<Frame>();
         let (steps_tx, steps_rx) = channel::<Step>();
@@ -73,7 +73,12 @@ fn serve(
     steps: &Sender<Step>,
 ) -> Result<(), String> {
     let period = config.camera.frame_cycles;
-    let slot = Arc::new(Mutex::new(vec![128u8; alvs_tasks::PIXELS]));
+    // the robot boots looking at its first view, as a real one does (a grey card taken away
+    // at the first frame would be a whole-scene onset the trial is not about)
+    let Ok(first) = frames.recv() else {
+        return Ok(());
+    };
+    let slot = Arc::new(Mutex::new(first.to_vec()));
     let camera = Arc::clone(&slot);
     let source = Box::new(move |_| camera.lock().map(|f| f.clone()).unwrap_or_default());
     let mut board = Board::new(elf, config, source).map_err(|e| e.to_string())?;
@@ -83,7 +88,7 @@ fn serve(
     // the bottom board hears everything from power-on (the enable sequence comes at priming)
     let (mut bytes_seen, mut text_seen) = (0, board.rtt(1).len());
     let mut seen = (State::Wander, 0, None);
-    while let Ok(frame) = frames.recv() {
+    for frame in core::iter::once(first).chain(frames.iter()) {
         if let Ok(mut s) = slot.lock() {
             s.copy_from_slice(&frame);
         }

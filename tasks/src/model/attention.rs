@@ -38,6 +38,9 @@ pub struct Field {
     pub age: u32,
     /// The quadrant sum `ΣQ` of its last frame, gate or not (`Params::q_grow_pct`).
     pub drive: u32,
+    /// Where `drive` was measured: the centroid of its last frame, moved with the view by
+    /// turns (`Params::derotate`) but not by recentring.
+    pub drive_at: (u8, u8),
     /// LPLC2 responses of the last `MAX_D` frames, newest at `head`.
     history: [u32; MAX_D as usize],
     /// Slot of the newest response; wraps independently of `age`, which saturates.
@@ -52,6 +55,7 @@ impl Field {
             y: y as u8,
             age: 0,
             drive: 0,
+            drive_at: (x as u8, y as u8),
             history: [0; MAX_D as usize],
             head: 0,
         }
@@ -71,6 +75,12 @@ impl Field {
     pub fn contains(&self, x: usize, y: usize, r: u8) -> bool {
         usize::from(self.x).abs_diff(x) <= usize::from(r)
             && usize::from(self.y).abs_diff(y) <= usize::from(r)
+    }
+
+    /// How far recentring moved the centroid since `drive` was measured, pixels (Chebyshev).
+    pub fn shift_since_drive(&self) -> u8 {
+        let (x, y) = self.drive_at;
+        self.x.abs_diff(x).max(self.y.abs_diff(y))
     }
 
     /// Records this frame's LPLC2 response.

@@ -231,6 +231,7 @@ impl Network {
                 self.retina.turn(&t);
                 for f in self.fields.iter_mut() {
                     (f.x, f.y) = t.moved(f.x, f.y);
+                    f.drive_at = t.moved(f.drive_at.0, f.drive_at.1);
                 }
             }
             None => self.reset(),
@@ -303,13 +304,15 @@ impl Network {
             &mut lplc,
         );
         mark(Stage::Motion);
-        // `Params::q_grow_pct`: a partial opening needs a growing drive
+        // `Params::q_grow_pct`: a partial opening needs a growing drive at the same place
         let gate = lplc2::Gate::of(&p);
         for (f, l) in self.fields.iter_mut().zip(lplc.iter_mut()) {
-            if !lplc2::partial_opening_grows(l.quadrants, &gate, f.drive, p.q_grow_pct) {
+            let last = (f.shift_since_drive() <= lplc2::GROW_SHIFT_PX).then_some(f.drive);
+            if !lplc2::partial_opening_grows(l.quadrants, &gate, last, p.q_grow_pct) {
                 l.response = 0;
             }
             f.drive = lplc2::drive(l.quadrants);
+            f.drive_at = (f.x, f.y);
         }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
         // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.

@@ -58,7 +58,8 @@ pub struct Params {
     /// strongest one to count as excited. Unstated; see `docs/model.md`.
     pub q_balance: u8,
     /// Excited quadrants needed to open the gate, Eq. (9). The paper's product `∏Q` needs all
-    /// 4; the authors' firmware opens at 3 of 4 ("expansion edges"); see `docs/model.md`.
+    /// 4 ([`Params::PAPER`]); the authors' firmware opens at 3 of 4 ("expansion edges"), and so
+    /// does the default, together with `q_grow_pct`; see `docs/model.md`.
     pub q_arms: u8,
     /// Frames after a start or restart (a torn or dropped frame) during which no field is
     /// reported stimulated: the delay line of Eq. (6) and the `d`-frame history of Eq. (10)
@@ -89,10 +90,10 @@ pub struct Params {
     pub adapt_frames: u8,
     /// Growth of a partial opening: when fewer than four quadrants are excited (an opening
     /// that `q_arms` < 4 allows), the field's quadrant sum must also have grown by at least
-    /// this many percent since the last frame. A looming object's drive grows; a receding one's,
-    /// and the residue a finished threat leaves, do not. 0 turns it off: the paper, and the
-    /// default (with `q_arms=3` it lifts the arena but breaks two closed-loop direction tests,
-    /// `docs/experiments.md`). See `docs/model.md`, "Closed-loop mechanisms".
+    /// this many percent since the last frame, at the same place
+    /// ([`crate::model::lplc2::GROW_SHIFT_PX`]). A looming object's drive grows; a receding
+    /// one's, and the residue a finished threat leaves, do not. 0 turns it off (the paper); the
+    /// default is 50 with `q_arms` = 3. See `docs/model.md`, "Closed-loop mechanisms".
     pub q_grow_pct: u8,
 }
 
@@ -133,6 +134,8 @@ impl Params {
         flicker_pct: 50,
         derotate: 1,
         adapt_frames: 30,
+        q_arms: 3,
+        q_grow_pct: 50,
         ..Params::PAPER
     };
 
@@ -457,9 +460,10 @@ mod tests {
                 paper.blocked_change,
                 paper.derotate,
                 paper.adapt_frames,
-                paper.q_grow_pct
+                paper.q_grow_pct,
+                paper.q_arms
             ),
-            (0, 0, 0, 0, 0, 0),
+            (0, 0, 0, 0, 0, 0, 4),
             "the paper has none"
         );
         // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
@@ -470,9 +474,10 @@ mod tests {
                 alvs.blocked_change,
                 alvs.derotate,
                 alvs.adapt_frames,
-                alvs.q_grow_pct
+                alvs.q_grow_pct,
+                alvs.q_arms
             ),
-            (4, 50, 0, 1, 30, 0)
+            (4, 50, 0, 1, 30, 50, 3)
         );
         // everything else is the paper's
         assert_eq!(
@@ -482,6 +487,8 @@ mod tests {
                 blocked_change: 0,
                 derotate: 0,
                 adapt_frames: 0,
+                q_grow_pct: 0,
+                q_arms: 4,
                 ..alvs
             },
             paper

@@ -237,13 +237,18 @@ fn a_partial_opening_stands_only_on_a_growing_drive() {
     let three = [1000, 1000, 1000, 0];
     assert_eq!(gate(three, &g), 3000);
     // off: always stands
-    assert!(partial_opening_grows(three, &g, 10_000, 0));
+    assert!(partial_opening_grows(three, &g, Some(10_000), 0));
     // the drive grew from 1,900 to 3,000 (+58 %): stands; from 2,000 (+50 %): not more than half
-    assert!(partial_opening_grows(three, &g, 1_900, 50));
-    assert!(!partial_opening_grows(three, &g, 2_000, 50));
+    assert!(partial_opening_grows(three, &g, Some(1_900), 50));
+    assert!(!partial_opening_grows(three, &g, Some(2_000), 50));
     // a steady or falling drive (a receding object, a finished threat's residue): refused
-    assert!(!partial_opening_grows(three, &g, 3_000, 50));
-    assert!(!partial_opening_grows(three, &g, 9_000, 50));
+    assert!(!partial_opening_grows(three, &g, Some(3_000), 50));
+    assert!(!partial_opening_grows(three, &g, Some(9_000), 50));
     // four excited arms are Eq. (9)'s full opening: no growth needed
-    assert!(partial_opening_grows([1000; 4], &g, 9_000, 50));
+    assert!(partial_opening_grows([1000; 4], &g, Some(9_000), 50));
+    // a field that jumped has no drive of its new place: a partial opening does not stand,
+    // a full one does, and with the option off everything stands
+    assert!(!partial_opening_grows(three, &g, None, 50));
+    assert!(partial_opening_grows([1000; 4], &g, None, 50));
+    assert!(partial_opening_grows(three, &g, None, 0));
 }
