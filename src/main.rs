@@ -158,13 +158,16 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, {} B of model state, motors off until {} frames primed it",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), {} B of model state, motors off until {} frames primed it",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
             alvs_tasks::Params::ALVS.warmup,
             alvs_tasks::Params::ALVS.flicker_pct,
             alvs_tasks::Params::ALVS.derotate,
+            alvs_tasks::Params::ALVS.adapt_frames,
+            alvs_tasks::Params::ALVS.q_arms,
+            alvs_tasks::Params::ALVS.q_grow_pct,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES
         );

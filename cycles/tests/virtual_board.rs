@@ -87,6 +87,11 @@ fn boots_to_the_banner_brings_the_camera_up_and_streams_frames() {
     assert!(log.contains("clocks: SYSCLK 180000000 Hz"), "{log}");
     assert!(log.contains("camera: OV7670 PID 0x76 VER 0x73"), "{log}");
     assert!(log.contains("running: model alvs"), "{log}");
+    // the closed-loop mechanisms the firmware runs, named in its banner
+    assert!(
+        log.contains("derotate 1, adapt 30 frames, gate 3 of 4 arms (growing 50 %)"),
+        "{log}"
+    );
     assert!(!log.contains("ERROR"), "{log}");
     assert!(b.log().resets.is_empty());
     let lines = b.rtt(1).lines().filter(|l| l.starts_with("F ")).count();
