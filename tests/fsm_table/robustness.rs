@@ -128,7 +128,7 @@ proptest! {
     /// Nonsensical parameters must not panic either.
     #[test]
     fn any_params_do_not_panic(
-        vals in proptest::collection::vec(any_f32(), 12),
+        vals in proptest::collection::vec(any_f32(), 13),
         counts in proptest::collection::vec(any::<u32>(), 8),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
@@ -153,6 +153,7 @@ proptest! {
             blocked_frames: counts[6],
             blocked_travel_mm: vals[10],
             blocked_yaw_deg: vals[11],
+            takeoff_drive: vals[12],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

@@ -143,6 +143,13 @@ pub struct FsmParams {
     pub blocked_travel_mm: f32,
     /// ... while its heading changed by at most this, degrees.
     pub blocked_yaw_deg: f32,
+    /// Moving while turning in the long takeoff: the robot drives at this fraction of the
+    /// escape speed times `cos(heading error)`, so its motion along the escape set-point is
+    /// never towards the threat: it reverses while the set-point is behind it and moves
+    /// forward once within 90°. 0, the default, is the paper's turn in place; 1 stops the
+    /// evasion collisions on plain walls but lowers the arena's success rate
+    /// (`docs/experiments.md`, "Closed-loop mechanisms").
+    pub takeoff_drive: f32,
 }
 
 impl Default for FsmParams {
@@ -168,13 +175,14 @@ impl Default for FsmParams {
             blocked_frames: 15,
             blocked_travel_mm: 40.0,
             blocked_yaw_deg: 10.0,
+            takeoff_drive: 0.0,
         }
     }
 }
 
 impl FsmParams {
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 20] = [
+    pub const NAMES: [&'static str; 21] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -195,6 +203,7 @@ impl FsmParams {
         "blocked_travel_mm",
         "blocked_yaw_deg",
         "retreat_frames",
+        "takeoff_drive",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
@@ -237,7 +246,8 @@ impl FsmParams {
             "blocked_frames" => p.blocked_frames = count()?,
             "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
             "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
-            _ => p.retreat_frames = count()?,
+            "retreat_frames" => p.retreat_frames = count()?,
+            _ => p.takeoff_drive = real(false)?,
         }
         Ok(())
     }
@@ -633,7 +643,11 @@ impl Fsm {
         let s = self.strength;
         let (v, omega) = match self.state {
             State::Wander => (p.cruise_mm_s, self.steer(self.setpoint, h)),
-            State::LongTakeoff => (0.0, self.steer(self.setpoint, h)),
+            State::LongTakeoff => {
+                let err = heading_error_deg(self.setpoint, h).to_radians();
+                let v = p.takeoff_drive * s * p.max_escape_mm_s * libm::cosf(err);
+                (v, self.steer(self.setpoint, h))
+            }
             State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
             State::ShortTakeoff => match self.short_phase {
                 Some(ShortPhase::Turn) => (s * p.max_escape_mm_s, self.steer(self.setpoint2, h)),
@@ -841,6 +855,34 @@ mod tests {
         assert!(close(c.heading_setpoint_deg, -115.0, 1e-4));
         // in place: wheels opposite
         assert!(close(c.left_mm_s, -c.right_mm_s, 1e-4) && c.left_mm_s > 0.0);
+    }
+
+    #[test]
+    fn a_long_takeoff_can_move_away_while_it_turns() {
+        let p = FsmParams {
+            takeoff_drive: 1.0,
+            ..FsmParams::default()
+        };
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        let vm = Visuomotor {
+            alert: true,
+            strength: 0.6,
+            theta_long: Some(-145.0),
+            ..Visuomotor::default()
+        };
+        // the set-point is 145° to the left, behind: reverse while turning left, at
+        // 0.6 · 200 · cos 145° = −98 mm/s
+        let c = f.step(&vm, 0.0);
+        assert_eq!(c.state, State::LongTakeoff);
+        let v = (c.left_mm_s + c.right_mm_s) / 2.0;
+        assert!(close(v, -98.3, 0.5), "{v}");
+        assert!(c.left_mm_s < c.right_mm_s, "turning left");
+        // 30° to go: forward at 0.6 · 200 · cos 30° = 104 mm/s, still turning left
+        let c = f.step(&quiet(), -115.0);
+        assert_eq!(c.state, State::LongTakeoff);
+        let v = (c.left_mm_s + c.right_mm_s) / 2.0;
+        assert!(close(v, 103.9, 0.5), "{v}");
+        assert!(c.left_mm_s < c.right_mm_s);
     }
 
     #[test]
