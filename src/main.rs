@@ -158,7 +158,7 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), {} B of model state, motors off until {} frames primed it",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, {} B of model state, motors off until {} frames primed it",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
@@ -168,6 +168,7 @@ mod app {
             alvs_tasks::Params::ALVS.adapt_frames,
             alvs_tasks::Params::ALVS.q_arms,
             alvs_tasks::Params::ALVS.q_grow_pct,
+            alvs_tasks::Params::ALVS.t_a_quiet,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES
         );

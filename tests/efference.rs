@@ -124,3 +124,31 @@ fn a_turn_moves_where_each_field_drive_was_measured() {
     }
     assert!(moved > 5, "fields the turns moved: {moved}");
 }
+
+/// `Params::t_a_quiet`: a standing robot on plain walls sees a robot driving at it (100 mm/s
+/// from 500 mm, dead ahead). Its edges grow by a fraction of a pixel a frame, so their
+/// salience stays under Table I's `T_a` until the robot is close; in a scene where nothing
+/// else changes the threshold is lower and the first alert comes earlier (143 against 123 mm
+/// when measured).
+#[test]
+fn a_quiet_scene_lowers_the_attention_threshold() {
+    let world = World::with_texture(WallTexture::from_spec("plain:200").unwrap());
+    let r = Renderer::new(&world);
+    let first_alert = |p: Params| {
+        let mut net = Network::new(p).unwrap();
+        (0..140).find_map(|i| {
+            let d = 500.0 - 100.0 * f64::from(i) / 30.0;
+            let obstacle = Pose::new(450.0 + d, 450.0, 180.0);
+            let out = net.step(&r.render(&[Pose::new(450.0, 450.0, 0.0), obstacle], 0));
+            out.vm.alert.then_some(d)
+        })
+    };
+    let quiet = first_alert(Params::ALVS).expect("alerts");
+    let table_i = first_alert(Params {
+        t_a_quiet: 0,
+        ..Params::ALVS
+    })
+    .expect("alerts");
+    println!("first alert at {quiet:.0} mm (T_a {table_i:.0} mm)");
+    assert!(quiet > table_i + 10.0, "{quiet} against {table_i}");
+}

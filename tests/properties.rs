@@ -207,7 +207,8 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
         1u8..=4,
     );
-    // warm-up frames, whole-field luminance events, blocked-way threshold, efference copy
+    // warm-up frames, whole-field luminance events, blocked-way threshold, efference copy,
+    // adaptation, growth of partial openings, the quiet scene's attention threshold
     let fourth = (
         prop_oneof![3 => 0u8..=8, 1 => any::<u8>()],
         0u8..=100,
@@ -215,13 +216,14 @@ fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=1,
         prop_oneof![3 => Just(0u8), 1 => any::<u8>()],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
+        prop_oneof![1 => Just(0u32), 1 => threshold()],
     );
     let random = (first, second, third, fourth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
-            (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct),
+            (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
         )| Params {
             w,
             n,
@@ -247,6 +249,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             derotate,
             adapt_frames,
             q_grow_pct,
+            t_a_quiet,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]

@@ -25,6 +25,30 @@ use crate::model::network::MAX_AFS;
 use crate::model::params::{Params, MAX_D};
 use crate::model::retina::Weights;
 
+/// `Params::t_a_quiet`: the share of the retina, in percent, that must be changing (by
+/// [`crate::model::luminance::CHANGE_LEVEL`] levels or more, one direction) for Eq. (3) to use
+/// Table I's `T_a`; below it the threshold falls linearly towards `t_a_quiet`. Measured on
+/// the rendered arena (medians): a standing robot's view changes on 0 % of its pixels, one
+/// driving at 100 mm/s past the built-in walls on 4–14 %, at 200 mm/s on 11–25 % (plain walls:
+/// 0 % at any speed).
+pub const BUSY_PCT: u32 = 10;
+
+/// The attention threshold of Eq. (3) for a frame in which `changing` = `(on, off, sampled)`
+/// pixels changed ([`crate::model::luminance::changing`]): `T_a` in a busy scene, down to
+/// `Params::t_a_quiet` in a still one (salience normalised by the scene's overall activity,
+/// as photoreceptor and lamina gain rise in a quiet, low-contrast scene). `T_a` when the
+/// mechanism is off (0) or not below `T_a`.
+pub fn spawn_threshold((on, off, sampled): (u32, u32, u32), p: &Params) -> u32 {
+    let quiet = p.t_a_quiet;
+    if quiet == 0 || quiet >= p.t_a {
+        return p.t_a;
+    }
+    // `sampled · BUSY_PCT` ≤ 1,782 · 10: no overflow
+    let busy = (sampled * BUSY_PCT).div_ceil(100).max(1);
+    let share = on.max(off).min(busy);
+    quiet + ((u64::from(p.t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
+}
+
 /// One attention field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Field {
@@ -190,6 +214,11 @@ impl Fields {
     /// raster order with a strict `>` (so ties still go to the first pixel), with no per-pixel
     /// containment test.
     pub fn spawn(&mut self, m: &Maps, w: &Weights, p: &Params) -> Option<u32> {
+        self.spawn_above(m, w, p, p.t_a)
+    }
+
+    /// [`Fields::spawn`] with the threshold `t_a` in place of `p.t_a` ([`spawn_threshold`]).
+    pub fn spawn_above(&mut self, m: &Maps, w: &Weights, p: &Params, t_a: u32) -> Option<u32> {
         if self.list.is_full() {
             return None;
         }
@@ -231,7 +260,7 @@ impl Fields {
                 x = x.max(c1);
             }
         }
-        self.open(best, p.t_a)
+        self.open(best, t_a)
     }
 
     /// Eq. (3)'s decision on the strongest candidate `(L̂, x, y)`: a new field there if `L̂`
@@ -468,6 +497,28 @@ impl Fields {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_quiet_scene_lowers_the_spawn_threshold_towards_t_a_quiet() {
+        let p = Params::ALVS;
+        assert_eq!((p.t_a, p.t_a_quiet, BUSY_PCT), (100, 30, 10));
+        // 1,782 pixels sampled: 179 changing (10 %) or more is a busy scene
+        assert_eq!(spawn_threshold((0, 0, 1782), &p), 30);
+        assert_eq!(spawn_threshold((179, 3, 1782), &p), 100);
+        assert_eq!(spawn_threshold((3, 900, 1782), &p), 100);
+        // half-way: half-way between the two
+        assert_eq!(spawn_threshold((89, 0, 1782), &p), 64);
+        // off, or not below T_a: Table I's T_a
+        for quiet in [0, 100, 500] {
+            let q = Params {
+                t_a_quiet: quiet,
+                ..p
+            };
+            assert_eq!(spawn_threshold((0, 0, 1782), &q), 100);
+        }
+        // nothing sampled cannot divide by zero
+        assert_eq!(spawn_threshold((0, 0, 0), &p), 30);
+    }
     use crate::frame::PIXELS;
 
     fn p() -> Params {

@@ -51,10 +51,14 @@ pub fn changing(cells: &Cells) -> (u32, u32, u32) {
 /// Whether this frame is a whole-field luminance event: one direction of change covers at least
 /// `pct` percent of the retina and the other less than 1/[`OPPOSITE_DIVISOR`] as much. `pct = 0` is off.
 pub fn is_event(cells: &Cells, pct: u8) -> bool {
+    pct != 0 && is_event_of(changing(cells), pct)
+}
+
+/// [`is_event`] on the counts [`changing`] returned (computed once per frame for both uses).
+pub fn is_event_of((on, off, sampled): (u32, u32, u32), pct: u8) -> bool {
     if pct == 0 {
         return false;
     }
-    let (on, off, sampled) = changing(cells);
     let (most, least) = (on.max(off), on.min(off));
     // `sampled · pct` ≤ 1,782 · 100: no overflow
     let need = (sampled * u32::from(pct)).div_ceil(100);

@@ -13,7 +13,7 @@
 //! same output. Streaming is what lets the firmware keep no frame buffer (docs/firmware.md).
 
 use crate::frame::{Frame, WIDTH};
-use crate::model::attention::Fields;
+use crate::model::attention::{self, Fields};
 use crate::model::derotate::Turn;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
@@ -280,7 +280,14 @@ impl Network {
 
         // Eqs. (3)–(5).
         let maps = self.retina.maps();
-        self.fields.spawn(&maps, &self.weights, &p);
+        // changing pixels, counted once for `Params::t_a_quiet` and `Params::flicker_pct`
+        let changing = if p.t_a_quiet > 0 || p.flicker_pct > 0 {
+            luminance::changing(maps.cells)
+        } else {
+            (0, 0, 0)
+        };
+        let t_a = attention::spawn_threshold(changing, &p);
+        self.fields.spawn_above(&maps, &self.weights, &p, t_a);
         self.fields.recentre(&maps, &self.weights, &p);
         self.fields.fuse(p.r_af);
         mark(Stage::Attention);
@@ -316,7 +323,7 @@ impl Network {
         }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
         // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.
-        if index < u32::from(p.warmup) || luminance::is_event(maps.cells, p.flicker_pct) {
+        if index < u32::from(p.warmup) || luminance::is_event_of(changing, p.flicker_pct) {
             for l in lplc.iter_mut() {
                 l.response = 0;
             }

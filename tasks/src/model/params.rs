@@ -95,6 +95,12 @@ pub struct Params {
     /// one's, and the residue a finished threat leaves, do not. 0 turns it off (the paper); the
     /// default is 50 with `q_arms` = 3. See `docs/model.md`, "Closed-loop mechanisms".
     pub q_grow_pct: u8,
+    /// Attention threshold of a quiet scene: `T_a` (Eq. 3) falls towards this value as the
+    /// share of the retina that changes falls below [`crate::model::attention::BUSY_PCT`], so
+    /// a small object's faint edges can open a field when little else moves, while a scene
+    /// full of motion keeps Table I's `T_a`. 0 turns it off (the paper). See `docs/model.md`,
+    /// "Closed-loop mechanisms".
+    pub t_a_quiet: u32,
 }
 
 impl Params {
@@ -124,6 +130,7 @@ impl Params {
         derotate: 0,
         adapt_frames: 0,
         q_grow_pct: 0,
+        t_a_quiet: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -136,6 +143,7 @@ impl Params {
         adapt_frames: 30,
         q_arms: 3,
         q_grow_pct: 50,
+        t_a_quiet: 30,
         ..Params::PAPER
     };
 
@@ -160,7 +168,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 24] = [
+    pub const NAMES: [&'static str; 25] = [
         "w",
         "n",
         "r_af",
@@ -185,12 +193,13 @@ impl Params {
         "derotate",
         "adapt_frames",
         "q_grow_pct",
+        "t_a_quiet",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 24] = [
+    pub const RANGES: [Range; 25] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -215,6 +224,7 @@ impl Params {
         Range::Int(0, 1),
         Range::Int(0, 255),
         Range::Int(0, 255),
+        Range::Int(0, u32::MAX as i64),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -241,6 +251,7 @@ impl Params {
         check_int("derotate", self.derotate.into())?;
         check_int("adapt_frames", self.adapt_frames.into())?;
         check_int("q_grow_pct", self.q_grow_pct.into())?;
+        check_int("t_a_quiet", self.t_a_quiet.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -291,8 +302,9 @@ impl Params {
             "blocked_change" => p.blocked_change = int(name, v)?,
             "derotate" => p.derotate = int(name, v)?,
             "adapt_frames" => p.adapt_frames = int(name, v)?,
+            "q_grow_pct" => p.q_grow_pct = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.q_grow_pct = int(name, v)?,
+            _ => p.t_a_quiet = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -461,9 +473,10 @@ mod tests {
                 paper.derotate,
                 paper.adapt_frames,
                 paper.q_grow_pct,
-                paper.q_arms
+                paper.q_arms,
+                paper.t_a_quiet
             ),
-            (0, 0, 0, 0, 0, 0, 4),
+            (0, 0, 0, 0, 0, 0, 4, 0),
             "the paper has none"
         );
         // blocked_change is opt-in (measured in docs/experiments.md, not kept in the default)
@@ -475,9 +488,10 @@ mod tests {
                 alvs.derotate,
                 alvs.adapt_frames,
                 alvs.q_grow_pct,
-                alvs.q_arms
+                alvs.q_arms,
+                alvs.t_a_quiet
             ),
-            (4, 50, 0, 1, 30, 50, 3)
+            (4, 50, 0, 1, 30, 50, 3, 30)
         );
         // everything else is the paper's
         assert_eq!(
@@ -489,6 +503,7 @@ mod tests {
                 adapt_frames: 0,
                 q_grow_pct: 0,
                 q_arms: 4,
+                t_a_quiet: 0,
                 ..alvs
             },
             paper
