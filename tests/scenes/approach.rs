@@ -96,3 +96,19 @@ fn disc_approaching_at_constant_speed() {
         }
     }
 }
+
+/// A bright square (235 on 20) expanding 1 px/frame: its ON salience (a 1 px edge,
+/// `gain·w·contrast/3` ≤ 85) stays under Table I's `T_a` = 100, so the paper's model makes no
+/// field at all (it was a known limitation). On a still scene the default's attention
+/// threshold is lower (`Params::t_a_quiet`), and it alerts.
+#[test]
+fn slow_bright_approach_alerts() {
+    let bg = Canvas::plain(20.0);
+    let obj = Looming::square(49.0, 36.0, 1.0, 235.0);
+    let frames = looming_scene(&bg, &[obj], 16);
+    check_approach("slow bright square", &run(&frames), &obj, 16);
+    let mut paper = Network::new(Params::PAPER).unwrap();
+    let outs: Vec<Perception> = frames.iter().map(|f| paper.step(f)).collect();
+    assert_eq!(alerts(&outs), 0, "the paper's T_a sees nothing");
+    assert!(outs.iter().all(|o| o.afs.is_empty()), "no field");
+}
