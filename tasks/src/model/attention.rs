@@ -497,6 +497,15 @@ impl Fields {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::PIXELS;
+
+    fn p() -> Params {
+        Params::default()
+    }
+
+    fn w() -> Weights {
+        Weights::new(&p())
+    }
 
     #[test]
     fn a_quiet_scene_lowers_the_spawn_threshold_towards_t_a_quiet() {
@@ -518,15 +527,6 @@ mod tests {
         }
         // nothing sampled cannot divide by zero
         assert_eq!(spawn_threshold((0, 0, 0), &p), 30);
-    }
-    use crate::frame::PIXELS;
-
-    fn p() -> Params {
-        Params::default()
-    }
-
-    fn w() -> Weights {
-        Weights::new(&p())
     }
 
     /// OFF map with blobs of value `v` (model saliency 4·v) at the given pixels.
