@@ -437,7 +437,7 @@ fn cli_helps() {
 #[test]
 fn bad_arguments_are_one_clear_line_and_a_failure() {
     let d = tmp("bad");
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 13] = [
         (&["--background", "nosuch"], "nosuch"),
         (&["--background", "checker:-3"], "positive"),
         (&["--robots", "0"], "at least 1"),
@@ -447,6 +447,8 @@ fn bad_arguments_are_one_clear_line_and_a_failure() {
         (&["--controller", "fly"], "possible values"),
         (&["--jobs", "0"], "at least 1"),
         (&["--param", "bogus=1"], "unknown parameter"),
+        (&["--exposure", "1.5"], "0..=1"),
+        (&["--exposure", "-0.1"], "0..=1"),
         // refused before anything runs, not after a 10-minute run
         (&["--trace", "/nonexistent/dir/trace.csv"], "cannot write"),
         (&["--minutes", "1000", "--trace", "t.csv"], "--trace"),

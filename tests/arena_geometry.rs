@@ -211,6 +211,59 @@ fn walls_are_seen_from_everywhere() {
     }
 }
 
+/// Sum of |grey difference| between neighbouring columns: the picture's vertical edges.
+fn edge_energy(f: &Frame) -> u64 {
+    f.chunks_exact(WIDTH)
+        .flat_map(|row| row.windows(2))
+        .map(|w| u64::from(w[0].abs_diff(w[1])))
+        .sum()
+}
+
+#[test]
+fn an_exposure_blurs_what_moves_and_nothing_else() {
+    let world = World::with_texture(WallTexture::Checker { size_mm: 40.0 });
+    let r = Renderer::new(&world);
+    let before = [Pose::new(600.0, 450.0, 0.0), Pose::new(800.0, 450.0, 90.0)];
+    // a turn of 6° in one frame (180°/s): the walls sweep about 8 columns
+    let after = [Pose::new(600.0, 450.0, 6.0), Pose::new(800.0, 450.0, 90.0)];
+    let shot = |exposure: f32, from: &[Pose], to: &[Pose]| {
+        let noise = SensorNoise {
+            exposure,
+            ..SensorNoise::default()
+        };
+        let mut f = [0u8; alvs_tasks::PIXELS];
+        Camera::new(noise, 1).capture_moving(&r, from, to, 0, &mut f);
+        f
+    };
+    // nothing moved: the exposure changes nothing
+    assert_eq!(shot(1.0, &after, &after), r.render(&after, 0));
+    // no exposure: the picture at the end of the frame period
+    assert_eq!(shot(0.0, &before, &after), r.render(&after, 0));
+    // the longer the exposure, the softer the edges, and the light is kept
+    let e: Vec<u64> = [0.0, 0.5, 1.0]
+        .iter()
+        .map(|&x| edge_energy(&shot(x, &before, &after)))
+        .collect();
+    assert!(e[0] > e[1] && e[1] > e[2], "edge energy {e:?}");
+    assert!(e[2] * 10 < e[0] * 8, "a whole-period blur keeps {e:?}");
+    let mean = |f: &Frame| f.iter().map(|&g| f64::from(g)).sum::<f64>() / f.len() as f64;
+    let (sharp, blurred) = (shot(0.0, &before, &after), shot(1.0, &before, &after));
+    assert!((mean(&sharp) - mean(&blurred)).abs() < 2.0);
+}
+
+#[test]
+fn a_pose_between_two_takes_the_shorter_turn() {
+    let m = Pose::new(0.0, 10.0, 170.0).lerp(&Pose::new(10.0, 30.0, -170.0), 0.5);
+    assert_eq!((m.x_mm, m.y_mm), (5.0, 20.0));
+    assert!(
+        (m.heading_deg.abs() - 180.0).abs() < 1e-9,
+        "{}",
+        m.heading_deg
+    );
+    let q = Pose::new(0.0, 0.0, -10.0).lerp(&Pose::new(0.0, 0.0, 30.0), 0.25);
+    assert!((q.heading_deg - 0.0).abs() < 1e-9);
+}
+
 #[test]
 fn a_wall_seen_square_on_is_a_level_band_at_the_pinhole_rows() {
     // 60 mm wall, camera 281 mm from it: top at row 25.54, base at row 40.48, in every column.

@@ -125,9 +125,30 @@ struct CommonArgs {
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
+    /// Camera exposure as a fraction of the 33 ms frame period, 0..=1: what moves while the
+    /// shutter is open is blurred (an OV7670 under lab light exposes for most of the frame
+    /// period). Default 0: instantaneous snapshots.
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "F",
+        value_parser = exposure_fraction,
+        allow_negative_numbers = true
+    )]
+    exposure: f32,
+}
+
+/// Parses `--exposure`: a fraction of the frame period in 0..=1.
+fn exposure_fraction(s: &str) -> std::result::Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not a fraction of the frame period in 0..=1"
+        )),
+    }
 }
 
 impl CommonArgs {
@@ -291,16 +312,27 @@ struct ArenaArgs {
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct blocked_change.
+    /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
+    /// Camera exposure as a fraction of the 33 ms frame period, 0..=1: what moves while the
+    /// shutter is open is blurred (an OV7670 under lab light exposes for most of the frame
+    /// period). Default 0: instantaneous snapshots.
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "F",
+        value_parser = exposure_fraction,
+        allow_negative_numbers = true
+    )]
+    exposure: f32,
 }
 
 #[derive(clap::Args)]
@@ -312,14 +344,14 @@ struct ModelArgs {
     model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct blocked_change.
+    /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).
@@ -634,6 +666,7 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        exposure: a.common.exposure,
     };
     let r = stimuli::run(&config, a.common.jobs()?)?;
     let pictures = r.write_pictures(&a.png)?;
@@ -650,6 +683,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        exposure: a.common.exposure,
         trace: a.trace.is_some(),
         ..evasion::EvasionConfig::default()
     };
@@ -676,6 +710,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        exposure: a.common.exposure,
         trace: a.trace.is_some(),
     };
     config.validate()?;
@@ -700,6 +735,7 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
+        exposure: a.common.exposure,
     };
     let bar = progress_bar("swarm", config.total_frames());
     let r = swarm::run(&config, a.common.jobs()?, &|n| bar.inc(n));
@@ -728,6 +764,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         params: parse_params(a.model, &a.params)?,
         fsm: parse_fsm(&a.fsm)?,
         trace: a.trace.is_some(),
+        exposure: a.exposure,
         ..ArenaConfig::default()
     };
     let jobs = jobs(a.jobs)?;

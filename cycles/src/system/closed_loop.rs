@@ -191,6 +191,7 @@ pub fn evasion_trial(
         fsm: alvs_tasks::model::fsm::FsmParams::default(),
         texture,
         noise: true,
+        exposure: 0.0,
         trace: false,
     };
     let result = encounter::run_with(&e, Box::new(robot), &|_| {});

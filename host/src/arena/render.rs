@@ -31,7 +31,9 @@
 //! static in the image since it has no texture); robots as cylinders with their
 //! [`RobotPattern`], Lambert-shaded (`AMBIENT + (1 − AMBIENT) cos i`, so their flanks are
 //! darker), drawn far to near per column so nearer robots occlude farther ones. The viewer's own
-//! body is behind its camera. Then, optionally, a global gain (per-frame flicker) and additive
+//! body is behind its camera. Optionally the light is integrated over an exposure (the mean of
+//! [`EXPOSURE_SAMPLES`] views along the bodies' motion during the end of the frame period, so
+//! what moves is blurred); then, optionally, a global gain (per-frame flicker) and additive
 //! pixel noise ([`SensorNoise`]), from the camera's own seeded stream.
 //!
 //! # Cost
@@ -113,7 +115,19 @@ pub struct SensorNoise {
     /// Standard deviation of the global gain, relative (one draw per frame: automatic gain
     /// control and lighting flicker).
     pub gain_sigma: f32,
+    /// Exposure time as a fraction of the frame period, 0..=1 (0 = an instantaneous snapshot):
+    /// the picture is the mean of [`EXPOSURE_SAMPLES`] views along the bodies' straight-line
+    /// motion over the last `exposure · 33 ms` of the frame, so what moves while the shutter
+    /// is open is smeared. An OV7670 under lab light exposes for most of the frame period
+    /// (`docs/experiments.md`, "Camera exposure"); 0 keeps the snapshots every figure was
+    /// measured with.
+    pub exposure: f32,
 }
+
+/// Views averaged over an exposure (see [`SensorNoise::exposure`]): at a 360°/s turn a
+/// whole-period exposure sweeps 17 columns, so 4 views leave steps of about 4 columns, which
+/// the correlators see as a blur, not as separate images; more cost rendering time.
+pub const EXPOSURE_SAMPLES: usize = 4;
 
 impl SensorNoise {
     /// Plausible OV7670 figures in a lit lab: 2 grey levels of pixel noise, 2 % gain flicker.
@@ -121,6 +135,7 @@ impl SensorNoise {
         SensorNoise {
             pixel_sigma: 2.0,
             gain_sigma: 0.02,
+            exposure: 0.0,
         }
     }
 }
@@ -173,6 +188,10 @@ pub struct Camera {
     rng: Rng,
     views: Vec<View>,
     hits: Vec<Hit>,
+    /// The exposure's light, row-major.
+    light: Vec<f32>,
+    /// The bodies at one instant of the exposure.
+    poses: Vec<Pose>,
 }
 
 impl Camera {
@@ -183,6 +202,8 @@ impl Camera {
             rng: Rng::new(seed),
             views: Vec::new(),
             hits: Vec::new(),
+            light: vec![0.0; PIXELS],
+            poses: Vec::new(),
         }
     }
 
@@ -197,11 +218,27 @@ impl Camera {
     }
 
     /// Renders what the camera of `bodies[viewer]` sees, with this camera's noise, into
-    /// `frame`. Every other body is drawn as a robot. Allocation-free once the camera has seen
-    /// as many robots as `bodies` holds. Panics if `viewer` is not an index of `bodies`.
+    /// `frame`, the bodies standing still. Every other body is drawn as a robot.
+    /// Allocation-free once the camera has seen as many robots as `bodies` holds. Panics if
+    /// `viewer` is not an index of `bodies`.
     pub fn capture(
         &mut self,
         renderer: &Renderer,
+        bodies: &[Pose],
+        viewer: usize,
+        frame: &mut Frame,
+    ) {
+        self.capture_moving(renderer, bodies, bodies, viewer, frame);
+    }
+
+    /// As [`Camera::capture`], the bodies having moved from `before` (one frame period ago)
+    /// to `bodies` (now): with an [`SensorNoise::exposure`], the picture integrates their
+    /// motion over the end of that period. If `before` does not list as many bodies, the
+    /// snapshot at `bodies` is taken.
+    pub fn capture_moving(
+        &mut self,
+        renderer: &Renderer,
+        before: &[Pose],
         bodies: &[Pose],
         viewer: usize,
         frame: &mut Frame,
@@ -212,15 +249,36 @@ impl Camera {
             1.0
         };
         let noise = (self.noise.pixel_sigma > 0.0).then_some(self.noise.pixel_sigma);
-        renderer.draw(
-            bodies,
-            viewer,
-            &mut self.views,
-            &mut self.hits,
-            gain,
-            noise.map(|s| (s, &mut self.rng)),
-            frame,
-        );
+        self.light.fill(0.0);
+        let e = self.noise.exposure.clamp(0.0, 1.0);
+        if e > 0.0 && before.len() == bodies.len() && before != bodies {
+            let w = 1.0 / EXPOSURE_SAMPLES as f32;
+            for k in 0..EXPOSURE_SAMPLES {
+                // instants spread evenly over the last `e` of the frame period
+                let t = 1.0 - f64::from(e) * (k as f64 + 0.5) / EXPOSURE_SAMPLES as f64;
+                self.poses.clear();
+                self.poses
+                    .extend(before.iter().zip(bodies).map(|(a, b)| a.lerp(b, t)));
+                renderer.scene(
+                    &self.poses,
+                    viewer,
+                    &mut self.views,
+                    &mut self.hits,
+                    &mut self.light,
+                    w,
+                );
+            }
+        } else {
+            renderer.scene(
+                bodies,
+                viewer,
+                &mut self.views,
+                &mut self.hits,
+                &mut self.light,
+                1.0,
+            );
+        }
+        Renderer::sensor(&self.light, gain, noise.map(|s| (s, &mut self.rng)), frame);
     }
 }
 
@@ -266,16 +324,16 @@ impl Renderer {
         frame
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn draw(
+    /// Adds `weight` times the light of the view from `bodies[viewer]` to `acc` (row-major,
+    /// grey levels).
+    fn scene(
         &self,
         bodies: &[Pose],
         viewer: usize,
         views: &mut Vec<View>,
         hits: &mut Vec<Hit>,
-        gain: f32,
-        mut noise: Option<(f32, &mut Rng)>,
-        frame: &mut Frame,
+        acc: &mut [f32],
+        weight: f32,
     ) {
         let eye = bodies[viewer];
         let (fx, fy) = eye.forward();
@@ -494,26 +552,37 @@ impl Renderer {
                 }
             }
 
-            // Out, through the sensor.
+            for (y, g) in col.iter().enumerate() {
+                acc[y * WIDTH + c] += weight * g;
+            }
+        }
+    }
+
+    /// The sensor: `acc` (the light of the exposure, grey levels) times the frame's `gain`,
+    /// plus pixel noise, rounded into `frame`. Column by column, rows in pairs, so that the
+    /// noise stream is drawn in a fixed order.
+    fn sensor(acc: &[f32], gain: f32, mut noise: Option<(f32, &mut Rng)>, frame: &mut Frame) {
+        for c in 0..WIDTH {
+            let at = |y: usize| acc[y * WIDTH + c];
             match noise.as_mut() {
                 None if gain == 1.0 => {
-                    for (y, g) in col.iter().enumerate() {
-                        frame[y * WIDTH + c] = (g + 0.5).clamp(0.0, 255.0) as u8;
+                    for y in 0..HEIGHT {
+                        frame[y * WIDTH + c] = (at(y) + 0.5).clamp(0.0, 255.0) as u8;
                     }
                 }
                 None => {
-                    for (y, g) in col.iter().enumerate() {
-                        frame[y * WIDTH + c] = (g * gain + 0.5).clamp(0.0, 255.0) as u8;
+                    for y in 0..HEIGHT {
+                        frame[y * WIDTH + c] = (at(y) * gain + 0.5).clamp(0.0, 255.0) as u8;
                     }
                 }
                 Some((sigma, rng)) => {
                     // HEIGHT (72) is even: rows go in pairs.
-                    for (y, g) in col.chunks_exact(2).enumerate() {
+                    for y in (0..HEIGHT).step_by(2) {
                         let (n0, n1) = rng.normal_pair();
-                        let v0 = g[0] * gain + *sigma * n0;
-                        let v1 = g[1] * gain + *sigma * n1;
-                        frame[2 * y * WIDTH + c] = (v0 + 0.5).clamp(0.0, 255.0) as u8;
-                        frame[(2 * y + 1) * WIDTH + c] = (v1 + 0.5).clamp(0.0, 255.0) as u8;
+                        let v0 = at(y) * gain + *sigma * n0;
+                        let v1 = at(y + 1) * gain + *sigma * n1;
+                        frame[y * WIDTH + c] = (v0 + 0.5).clamp(0.0, 255.0) as u8;
+                        frame[(y + 1) * WIDTH + c] = (v1 + 0.5).clamp(0.0, 255.0) as u8;
                     }
                 }
             }

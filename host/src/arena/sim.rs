@@ -30,6 +30,8 @@ pub struct Sim {
     robots: Vec<Robot>,
     frame: Frame,
     frames: u64,
+    /// The bodies one frame period ago (the start of the exposures).
+    before: Vec<Pose>,
     last: Vec<Command>,
     state_frames: Vec<BTreeMap<&'static str, u64>>,
     trails: Vec<Vec<(f64, f64)>>,
@@ -45,6 +47,7 @@ impl Sim {
             robots: Vec::new(),
             frame: [0; PIXELS],
             frames: 0,
+            before: Vec::new(),
             last: Vec::new(),
             state_frames: Vec::new(),
             trails: Vec::new(),
@@ -67,6 +70,7 @@ impl Sim {
             controller,
             camera: Camera::new(noise, cam_seed),
         });
+        self.before.push(pose);
         self.last.push(Command::default());
         self.state_frames.push(BTreeMap::new());
         self.trails.push(vec![(pose.x_mm, pose.y_mm)]);
@@ -80,9 +84,13 @@ impl Sim {
     pub fn step_with(&mut self, mut see: impl FnMut(usize, &Frame, &Command)) {
         for (i, robot) in self.robots.iter_mut().enumerate() {
             if robot.controller.sees() {
-                robot
-                    .camera
-                    .capture(&self.renderer, self.physics.poses(), i, &mut self.frame);
+                robot.camera.capture_moving(
+                    &self.renderer,
+                    &self.before,
+                    self.physics.poses(),
+                    i,
+                    &mut self.frame,
+                );
             }
             let heading = self.physics.gyro(i).heading() as f32;
             let cmd = robot.controller.step(&self.frame, heading);
@@ -94,6 +102,8 @@ impl Sim {
             self.physics
                 .set_wheels(i, f64::from(cmd.left_mm_s), f64::from(cmd.right_mm_s));
         }
+        self.before.clear();
+        self.before.extend_from_slice(self.physics.poses());
         self.physics.step_frame();
         self.frames += 1;
         if self.frames.is_multiple_of(TRAIL_EVERY) {

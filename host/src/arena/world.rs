@@ -134,6 +134,17 @@ impl Pose {
         (-s, c)
     }
 
+    /// The pose a fraction `t` of the way from `self` (0) to `to` (1), along the straight
+    /// line and the shorter turn.
+    pub fn lerp(&self, to: &Pose, t: f64) -> Pose {
+        let dh = wrap_deg(to.heading_deg - self.heading_deg);
+        Pose::new(
+            self.x_mm + t * (to.x_mm - self.x_mm),
+            self.y_mm + t * (to.y_mm - self.y_mm),
+            self.heading_deg + t * dh,
+        )
+    }
+
     /// Distance between the centres, mm.
     pub fn distance_to(&self, other: &Pose) -> f64 {
         (other.x_mm - self.x_mm).hypot(other.y_mm - self.y_mm)

@@ -127,6 +127,10 @@ pub struct Encounter {
     pub texture: WallTexture,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
     pub noise: bool,
+    /// The tested robot's camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default; 1 = the whole period): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
 }
@@ -304,7 +308,8 @@ pub fn run_with(
 ) -> EncounterResult {
     let world = World::with_texture(e.texture.clone());
     let mut sim = Sim::new(&world, e.seed);
-    let (motor, gyro, noise) = crate::arena::robot_noise(e.noise);
+    let (motor, gyro, mut noise) = crate::arena::robot_noise(e.noise);
+    noise.exposure = e.exposure;
     let start = tested_start();
     let tested = HoldUntilAlert::new(controller);
     sim.add(start, Box::new(tested), motor, gyro, noise);

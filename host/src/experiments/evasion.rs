@@ -51,6 +51,10 @@ pub struct EvasionConfig {
     pub trace: bool,
     /// Wall texture specification.
     pub background: String,
+    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default; 1 = the whole period): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
 }
 
 impl Default for EvasionConfig {
@@ -65,6 +69,7 @@ impl Default for EvasionConfig {
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
             background: "clutter:1".into(),
+            exposure: 0.0,
         }
     }
 }
@@ -245,6 +250,7 @@ pub fn run(
             fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
+            exposure: config.exposure,
             trace: config.trace,
         };
         let r = encounter::run(&e, progress);

@@ -145,6 +145,10 @@ pub struct StimuliConfig {
     pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
+    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default; 1 = the whole period): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
 }
 
 impl Default for StimuliConfig {
@@ -154,6 +158,7 @@ impl Default for StimuliConfig {
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             background: "clutter:1".into(),
+            exposure: 0.0,
         }
     }
 }
@@ -250,7 +255,10 @@ fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Re
         Box::new(stand),
         MotorParams::ideal(),
         GyroParams::ideal(),
-        SensorNoise::typical(),
+        SensorNoise {
+            exposure: config.exposure,
+            ..SensorNoise::typical()
+        },
     );
     for m in &scene.movers {
         let b = m.bearing_deg.to_radians();

@@ -51,6 +51,10 @@ pub struct SwarmConfig {
     pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Wall texture specification.
     pub background: String,
+    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default; 1 = the whole period): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
 }
 
 impl Default for SwarmConfig {
@@ -64,6 +68,7 @@ impl Default for SwarmConfig {
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             background: "clutter:1".into(),
+            exposure: 0.0,
         }
     }
 }
@@ -193,7 +198,10 @@ pub fn run(
                 kind.make(config.params, config.fsm, root.fork(i as u64).next_u64()),
                 MotorParams::default(),
                 GyroParams::default(),
-                SensorNoise::typical(),
+                SensorNoise {
+                    exposure: config.exposure,
+                    ..SensorNoise::typical()
+                },
             );
         }
         let points = |sim: &Sim| -> Vec<(f64, f64)> {

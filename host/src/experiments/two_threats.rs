@@ -48,6 +48,10 @@ pub struct TwoThreatConfig {
     pub trace: bool,
     /// Wall texture specification.
     pub background: String,
+    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default; 1 = the whole period): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
 }
 
 impl Default for TwoThreatConfig {
@@ -62,6 +66,7 @@ impl Default for TwoThreatConfig {
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
             background: "clutter:1".into(),
+            exposure: 0.0,
         }
     }
 }
@@ -244,6 +249,7 @@ pub fn run(
             fsm: config.fsm,
             texture: texture.clone(),
             noise: true,
+            exposure: config.exposure,
             trace: config.trace,
         };
         let res = encounter::run(&e, progress);

@@ -23,6 +23,10 @@ pub struct ArenaConfig {
     /// Realistic sensors and motors ([`SensorNoise::typical`], default motor lag and noise,
     /// default gyro); `false` gives ideal ones.
     pub noise: bool,
+    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
+    /// the default): motion during the exposure blurs the picture
+    /// ([`crate::arena::SensorNoise::exposure`]).
+    pub exposure: f32,
     /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
     pub trace: bool,
 }
@@ -39,6 +43,7 @@ impl Default for ArenaConfig {
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             noise: true,
+            exposure: 0.0,
             trace: false,
         }
     }
@@ -68,6 +73,11 @@ impl ArenaConfig {
             self.minutes <= MAX_MINUTES,
             "--minutes must be at most {MAX_MINUTES}, got {}",
             self.minutes
+        );
+        ensure!(
+            (0.0..=1.0).contains(&self.exposure),
+            "--exposure must be a fraction of the frame period in 0..=1, got {}",
+            self.exposure
         );
         ensure!(!self.backgrounds.is_empty(), "no background to run on");
         ensure!(!self.controllers.is_empty(), "no controller to run");
@@ -113,7 +123,8 @@ impl ArenaConfig {
         }
         let arena = World::default().arena;
         let starts = start_poses(&arena, self.robots, self.seed)?;
-        let (motor, gyro, noise) = crate::arena::robot_noise(self.noise);
+        let (motor, gyro, mut noise) = crate::arena::robot_noise(self.noise);
+        noise.exposure = self.exposure;
         let root = Rng::new(self.seed).fork(CONTROLLER_STREAM);
         let controller_seeds = (0..self.robots as u64)
             .map(|i| root.fork(i).next_u64())
