@@ -128,6 +128,13 @@ struct CommonArgs {
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
+    #[command(flatten)]
+    camera: CameraArgs,
+}
+
+/// The simulated camera's options.
+#[derive(clap::Args)]
+struct CameraArgs {
     /// Camera exposure as a fraction of the 33 ms frame period, 0..=1: what moves while the
     /// shutter is open is blurred (an OV7670 under lab light exposes for most of the frame
     /// period). Default 0: instantaneous snapshots.
@@ -322,17 +329,8 @@ struct ArenaArgs {
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
-    /// Camera exposure as a fraction of the 33 ms frame period, 0..=1: what moves while the
-    /// shutter is open is blurred (an OV7670 under lab light exposes for most of the frame
-    /// period). Default 0: instantaneous snapshots.
-    #[arg(
-        long,
-        default_value_t = 0.0,
-        value_name = "F",
-        value_parser = exposure_fraction,
-        allow_negative_numbers = true
-    )]
-    exposure: f32,
+    #[command(flatten)]
+    camera: CameraArgs,
 }
 
 #[derive(clap::Args)]
@@ -666,7 +664,7 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
-        exposure: a.common.exposure,
+        exposure: a.common.camera.exposure,
     };
     let r = stimuli::run(&config, a.common.jobs()?)?;
     let pictures = r.write_pictures(&a.png)?;
@@ -683,7 +681,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
-        exposure: a.common.exposure,
+        exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
         ..evasion::EvasionConfig::default()
     };
@@ -710,7 +708,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
-        exposure: a.common.exposure,
+        exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
     };
     config.validate()?;
@@ -735,7 +733,7 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(&a.common.fsm)?,
         background: a.common.background.clone(),
-        exposure: a.common.exposure,
+        exposure: a.common.camera.exposure,
     };
     let bar = progress_bar("swarm", config.total_frames());
     let r = swarm::run(&config, a.common.jobs()?, &|n| bar.inc(n));
@@ -764,7 +762,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         params: parse_params(a.model, &a.params)?,
         fsm: parse_fsm(&a.fsm)?,
         trace: a.trace.is_some(),
-        exposure: a.exposure,
+        exposure: a.camera.exposure,
         ..ArenaConfig::default()
     };
     let jobs = jobs(a.jobs)?;
