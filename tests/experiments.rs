@@ -48,6 +48,32 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     assert!(json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 9));
 }
 
+/// With the camera's exposure blur (`--exposure`, an OV7670 exposing for most of the frame
+/// period) the evasion still goes to the correct side from every bearing, and the blur reaches
+/// the tested robot's camera: the runs differ from the snapshot camera's.
+#[test]
+fn a_blurred_camera_still_escapes_to_the_correct_side() {
+    let run = |exposure: f32| {
+        let config = EvasionConfig {
+            controllers: alvs_only(),
+            exposure,
+            ..EvasionConfig::default()
+        };
+        evasion::run(&config, 2, &|_| {}).expect("a valid configuration")
+    };
+    let (sharp, blurred) = (run(0.0), run(0.75));
+    let b = &blurred.controllers[0];
+    assert_eq!(b.correct_side, 9, "{}", blurred.table());
+    let turns = |r: &evasion::EvasionReport| -> Vec<f64> {
+        r.controllers[0]
+            .per_angle
+            .iter()
+            .map(|o| o.escape_turn_deg)
+            .collect()
+    };
+    assert_ne!(turns(&sharp), turns(&blurred));
+}
+
 /// Paper Fig. 4c,d: the direction-blind LGMD2 escape "result[s] in a higher likelihood of
 /// collisions". On plain walls (a lab arena) ALVS's directed turn clears the obstacle from
 /// most bearings while LGMD2's random turn does not. (On the textured default walls both
@@ -224,7 +250,9 @@ fn cli_helps_and_fails_cleanly() {
         let out = alvs().args([cmd, "--help"]).output().unwrap();
         assert!(out.status.success(), "{cmd}");
         assert!(
-            String::from_utf8_lossy(&out.stdout).contains("--seed"),
+            ["--seed", "--exposure"]
+                .iter()
+                .all(|f| String::from_utf8_lossy(&out.stdout).contains(f)),
             "{cmd}"
         );
     }
@@ -234,6 +262,8 @@ fn cli_helps_and_fails_cleanly() {
         &["swarm", "--robots", "1"],
         &["evasion", "--speed", "-3"],
         &["stimuli", "--jobs", "0"],
+        &["swarm", "--exposure", "1.5"],
+        &["evasion", "--exposure", "-1"],
     ] {
         let out = alvs().args(args).output().unwrap();
         assert!(!out.status.success(), "{args:?}");
