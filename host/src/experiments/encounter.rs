@@ -127,9 +127,9 @@ pub struct Encounter {
     pub texture: WallTexture,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
     pub noise: bool,
-    /// The tested robot's camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
-    /// the default; 1 = the whole period): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// The tested robot's camera exposure as a fraction of the 33 ms frame period (0 =
+    /// instantaneous snapshots, the default; 1 = the whole period): motion during the exposure
+    /// blurs the picture ([`crate::arena::SensorNoise::exposure`]).
     pub exposure: f32,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
