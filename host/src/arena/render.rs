@@ -251,31 +251,30 @@ impl Camera {
         let noise = (self.noise.pixel_sigma > 0.0).then_some(self.noise.pixel_sigma);
         self.light.fill(0.0);
         let e = self.noise.exposure.clamp(0.0, 1.0);
-        if e > 0.0 && before.len() == bodies.len() && before != bodies {
-            let w = 1.0 / EXPOSURE_SAMPLES as f32;
-            for k in 0..EXPOSURE_SAMPLES {
+        // a snapshot is one instant (the end of the period) of weight 1
+        let instants = if e > 0.0 && before.len() == bodies.len() && before != bodies {
+            EXPOSURE_SAMPLES
+        } else {
+            1
+        };
+        for k in 0..instants {
+            let at: &[Pose] = if instants == 1 {
+                bodies
+            } else {
                 // instants spread evenly over the last `e` of the frame period
-                let t = 1.0 - f64::from(e) * (k as f64 + 0.5) / EXPOSURE_SAMPLES as f64;
+                let t = 1.0 - f64::from(e) * (k as f64 + 0.5) / instants as f64;
                 self.poses.clear();
                 self.poses
                     .extend(before.iter().zip(bodies).map(|(a, b)| a.lerp(b, t)));
-                renderer.scene(
-                    &self.poses,
-                    viewer,
-                    &mut self.views,
-                    &mut self.hits,
-                    &mut self.light,
-                    w,
-                );
-            }
-        } else {
+                &self.poses
+            };
             renderer.scene(
-                bodies,
+                at,
                 viewer,
                 &mut self.views,
                 &mut self.hits,
                 &mut self.light,
-                1.0,
+                1.0 / instants as f32,
             );
         }
         Renderer::sensor(&self.light, gain, noise.map(|s| (s, &mut self.rng)), frame);
