@@ -41,6 +41,10 @@ fn fsm_parameters_are_set_by_name_with_checked_values() {
         msg("saccade_yaw_deg_s", "x"),
         "FSM parameter saccade_yaw_deg_s must be a number ≥ 0, or inf (no suppression)"
     );
+    assert_eq!(
+        msg("live_strength", "3"),
+        "FSM parameter live_strength must be 0 (latched), 1 (escape) or 2 (escape and γ path)"
+    );
     // every name is accepted
     for name in FsmParams::NAMES {
         assert_eq!(FsmParams::default().set(name, "1"), Ok(()), "{name}");

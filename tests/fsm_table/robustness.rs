@@ -154,6 +154,7 @@ proptest! {
             blocked_travel_mm: vals[10],
             blocked_yaw_deg: vals[11],
             takeoff_drive: vals[12],
+            live_strength: counts[7] % 3,
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

@@ -150,6 +150,14 @@ pub struct FsmParams {
     /// evasion collisions on plain walls but lowers the arena's success rate
     /// (`docs/experiments.md`, "Closed-loop mechanisms").
     pub takeoff_drive: f32,
+    /// How the escape strength `S(t)` of Eq. (11) sets the speed. 0, the default: `S` is
+    /// latched when a takeoff starts, so its escape (and its γ path) runs at the speed of the
+    /// trigger. 1: `S` follows the live response on every Escape frame whose perception is not
+    /// suppressed, Eq. (11)'s time argument taken literally (with nothing looming `S` = 0.5 and
+    /// the escape slows to half `max_escape_mm_s`). 2: also during the γ path. Measured in
+    /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
+    /// the outdoor photographs, so it stays opt-in.
+    pub live_strength: u32,
 }
 
 impl Default for FsmParams {
@@ -176,13 +184,14 @@ impl Default for FsmParams {
             blocked_travel_mm: 40.0,
             blocked_yaw_deg: 10.0,
             takeoff_drive: 0.0,
+            live_strength: 0,
         }
     }
 }
 
 impl FsmParams {
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 22] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -204,11 +213,13 @@ impl FsmParams {
         "blocked_yaw_deg",
         "retreat_frames",
         "takeoff_drive",
+        "live_strength",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
     /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression);
-    /// counts are whole frames. A refused value leaves the parameters unchanged.
+    /// counts are whole frames; `live_strength` is 0, 1 or 2. A refused value leaves the
+    /// parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
         let v = value.trim();
         let name: &'static str = FsmParams::NAMES
@@ -247,6 +258,10 @@ impl FsmParams {
             "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
             "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
             "retreat_frames" => p.retreat_frames = count()?,
+            "live_strength" => {
+                p.live_strength = count()
+                    .and_then(|n| (n <= 2).then_some(n).ok_or(FsmParamError::Invalid { name }))?
+            }
             _ => p.takeoff_drive = real(false)?,
         }
         Ok(())
@@ -283,6 +298,10 @@ impl core::fmt::Display for FsmParamError {
                 f,
                 "FSM parameter {name} must be a whole number of frames in 0..={}",
                 u32::MAX
+            ),
+            FsmParamError::Invalid { name } if *name == "live_strength" => write!(
+                f,
+                "FSM parameter {name} must be 0 (latched), 1 (escape) or 2 (escape and γ path)"
             ),
             FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
                 f,
@@ -465,6 +484,9 @@ impl Fsm {
         } else {
             vm
         };
+        if self.follows_strength(ignored) {
+            self.strength = limit(vm.strength, 1.0).max(0.0);
+        }
         let blocked = self.blocked(vm, h);
         match self.behaviour {
             // the way ahead is blocked: turn around, as from a threat dead ahead
@@ -511,6 +533,17 @@ impl Fsm {
     /// settling after a fast turn).
     pub fn suppressed(&self) -> bool {
         self.last_yaw_deg_s > self.params.saccade_yaw_deg_s || self.settle > 0
+    }
+
+    /// Whether this frame's `S(t)` replaces the latched strength (`FsmParams::live_strength`).
+    fn follows_strength(&self, ignored: bool) -> bool {
+        let live = self.params.live_strength;
+        !ignored
+            && match self.state {
+                State::Escape => live >= 1,
+                State::ShortTakeoff => live >= 2,
+                _ => false,
+            }
     }
 
     fn enter_wander(&mut self, h: f32) {
