@@ -11,6 +11,7 @@ use alvs_host::experiments::evasion::{self, EvasionConfig};
 use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
+use alvs_tasks::model::fsm::FsmParams;
 
 fn alvs_only() -> Vec<Kind> {
     vec![Kind::Alvs]
@@ -184,6 +185,33 @@ fn swarm_robots_spin_and_escaping_robots_do_not() {
     assert_eq!(sw.trails[0][0], esc.trails[0][0]);
     let (a, b) = (swarm::spread(&[(0.0, 0.0), (6.0, 8.0)]), (5.0, 10.0));
     assert_eq!(a, b);
+}
+
+/// Paper Fig. 7: six robots spinning on approach draw together. Each spin turns a robot half
+/// round, away from what it saw; near others it stops and turns again and again, alone it runs
+/// on, so the group gathers. With a full turn per spin (360°/s) it does not.
+#[test]
+fn a_spinning_swarm_clusters_over_five_minutes() {
+    let spin = |deg_s: f32| {
+        let config = SwarmConfig {
+            controllers: vec![Kind::Swarm],
+            fsm: FsmParams {
+                spin_deg_s: deg_s,
+                ..FsmParams::default()
+            },
+            ..SwarmConfig::default()
+        };
+        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
+        let t = &r.trials[0];
+        (t.spread_start_mm, t.spread_last_minute_mm)
+    };
+    let (start, end) = spin(FsmParams::default().spin_deg_s);
+    assert!(end < 0.6 * start, "the default: {start} → {end} mm");
+    let (start, end) = spin(360.0);
+    assert!(
+        end > 0.9 * start,
+        "a full turn per spin: {start} → {end} mm"
+    );
 }
 
 fn alvs() -> Command {

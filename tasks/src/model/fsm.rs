@@ -121,7 +121,11 @@ pub struct FsmParams {
     pub takeoff_timeout_frames: u32,
     /// Swarm: the spin lasts this many frames after the last alert.
     pub spin_frames: u32,
-    /// Swarm: yaw rate of the spin, °/s (positive = spin right).
+    /// Swarm: yaw rate of the spin, °/s (positive = spin right). 180: perception is ignored
+    /// while the robot spins (saccadic suppression), so a spin lasts `spin_frames` = 1 s and
+    /// turns the robot half round: it leaves facing away from what it saw, as every escape
+    /// of the paper ends 180° from the threat. A full turn (360°/s) sends it back into what it
+    /// saw, and the group does not cluster (`docs/experiments.md`, "Swarm").
     pub spin_deg_s: f32,
     /// Saccadic suppression: while the robot turns faster than this (the yaw rate it commanded
     /// on the previous frame, an efference copy), alerts and short mode are ignored. A turn at
@@ -176,7 +180,7 @@ impl Default for FsmParams {
             quiet_frames: 15,
             takeoff_timeout_frames: 90,
             spin_frames: 30,
-            spin_deg_s: 360.0,
+            spin_deg_s: 180.0,
             saccade_yaw_deg_s: 45.0,
             settle_frames: 0,
             alert_frames: 1,
