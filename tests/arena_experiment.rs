@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
 
+use alvs_host::arena::contacts::{ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM};
 use alvs_host::arena::{Kind, World};
 use alvs_host::experiments::arena::{
     run, start_poses, trace_header, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
@@ -112,6 +113,10 @@ fn counts_are_consistent() {
         );
         assert_eq!(t.trails.len(), 3);
         assert!(t.trails.iter().all(|tr| tr.len() == 151), "{what}");
+        assert!(t.short_takeoffs_in_encounter <= t.short_takeoffs, "{what}");
+        if t.controller == "lgmd2" {
+            assert_eq!(t.short_takeoffs, 0, "LGMD2 has no short mode");
+        }
         assert!(t.wall_clock_s > 0.0);
     }
     for s in &report.summaries {
@@ -134,6 +139,12 @@ fn counts_are_consistent() {
         );
         let sum: f64 = s.state_fraction.values().sum();
         assert!((sum - 1.0).abs() < 1e-9);
+        assert_eq!(
+            s.short_takeoffs_in_encounter,
+            mine.iter()
+                .map(|t| t.short_takeoffs_in_encounter)
+                .sum::<u64>()
+        );
     }
     assert!(
         report.trials.iter().any(|t| t.encounters > 0),
@@ -186,6 +197,8 @@ fn trace_follows_every_robot_frame_by_frame() {
         let rows: Vec<Vec<&str>> = t.trace.iter().map(|l| l.split(',').collect()).collect();
         // the states add up to the trial's time per state
         let mut states = std::collections::BTreeMap::new();
+        // short takeoffs started, and those started inside an encounter
+        let (mut last, mut starts, mut near) = (vec![String::new(); t.robots], 0u64, 0u64);
         // frame-major: one line per robot, in order, for every frame
         for (frame, lines) in rows.chunks(t.robots).enumerate() {
             let num = |r: &[&str], name: &str| r[col(name)].parse::<f64>().unwrap();
@@ -205,6 +218,16 @@ fn trace_follows_every_robot_frame_by_frame() {
                 *states.entry(r[col("state")].to_string()).or_insert(0u64) += 1;
                 let f = |name: &str| num(r, name);
                 let wall = arena.wall_distance(f("x_mm"), f("y_mm"));
+                if r[col("state")] == "short_takeoff" && last[i] != "short_takeoff" {
+                    starts += 1;
+                    let robot_near = xy.iter().enumerate().any(|(j, q)| {
+                        j != i && (q.0 - xy[i].0).hypot(q.1 - xy[i].1) < ROBOT_ENCOUNTER_DISTANCE_MM
+                    });
+                    if robot_near || wall < WALL_ENCOUNTER_DISTANCE_MM {
+                        near += 1;
+                    }
+                }
+                last[i] = r[col("state")].to_string();
                 assert!((f("wall_mm") - wall).abs() <= 0.11, "{r:?}");
                 // the nearest other robot of the same frame (positions rounded to 0.1 mm)
                 let nearest = xy
@@ -221,6 +244,12 @@ fn trace_follows_every_robot_frame_by_frame() {
             }
         }
         assert_eq!(states, t.state_frames, "{}", t.controller);
+        assert_eq!(
+            (t.short_takeoffs, t.short_takeoffs_in_encounter),
+            (starts, near),
+            "{}",
+            t.controller
+        );
         // the last frame's lines hold the end poses
         let last = &rows[rows.len() - t.robots..];
         for (r, end) in last.iter().zip(&t.end_poses) {
@@ -317,6 +346,8 @@ fn json_has_the_documented_keys() {
             "encounters",
             "collisions",
             "collided_encounters",
+            "short_takeoffs",
+            "short_takeoffs_in_encounter",
         ] {
             assert!(s.get(key).is_some(), "{c} lacks {key}: {s}");
         }
@@ -348,6 +379,8 @@ fn json_has_the_documented_keys() {
             "robot_robot",
             "robot_wall",
             "wall_touches",
+            "short_takeoffs",
+            "short_takeoffs_in_encounter",
             "state_fraction",
             "wall_clock_s",
             "start_poses",

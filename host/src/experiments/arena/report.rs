@@ -188,13 +188,21 @@ impl ArenaReport {
         let _ = writeln!(out);
         let _ = writeln!(
             out,
-            "{:<10} {:>9} {:>9}  {:>12} {:>12}",
-            "controller", "success", "paper", "rr coll/min", "rw coll/min"
+            "{:<10} {:>9} {:>9}  {:>12} {:>12}  {:>24}",
+            "controller", "success", "paper", "rr coll/min", "rw coll/min", "short takeoffs near"
         );
         for s in &self.summaries {
+            let near = match s.short_takeoffs {
+                0 => "-".to_string(),
+                n => format!(
+                    "{} of {n} ({:.0} %)",
+                    s.short_takeoffs_in_encounter,
+                    100.0 * s.short_takeoffs_in_encounter as f64 / n as f64
+                ),
+            };
             let _ = writeln!(
                 out,
-                "{:<10} {:>9} {:>9}  {:>12.2} {:>12.2}",
+                "{:<10} {:>9} {:>9}  {:>12.2} {:>12.2}  {near:>24}",
                 s.controller,
                 pct(s.success_rate),
                 pct(s.paper_success_rate),
@@ -205,7 +213,9 @@ impl ArenaReport {
         let _ = writeln!(
             out,
             "(enc/coll/succ: encounters / encounters with a collision / success %; coll: collision \
-             episodes; at wall: % of robot time pressed against a wall; speed: mean robot speed)"
+             episodes; at wall: % of robot time pressed against a wall; speed: mean robot speed; \
+             short takeoffs near: started inside an encounter, a wall within 105 mm or a robot \
+             within 126 mm)"
         );
         out
     }

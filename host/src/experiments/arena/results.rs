@@ -109,6 +109,11 @@ pub struct Trial {
     pub wall_contact_fraction: f64,
     /// Mean speed of the robots over the trial, mm/s (distance from frame to frame).
     pub mean_speed_mm_s: f64,
+    /// Short takeoffs the robots started (ALVS; 0 for LGMD2).
+    pub short_takeoffs: u64,
+    /// … of them started inside an encounter (a wall within 105 mm or a robot within 126 mm,
+    /// centre distances): around a real threat.
+    pub short_takeoffs_in_encounter: u64,
     /// Fraction of robot-frames spent in each controller state (sums to 1).
     pub state_fraction: BTreeMap<String, f64>,
     /// Robot-frames spent in each controller state (summed over robots).
@@ -159,6 +164,10 @@ pub struct ControllerSummary {
     pub wall_contact_fraction: f64,
     /// Mean speed of the robots, mm/s.
     pub mean_speed_mm_s: f64,
+    /// Short takeoffs started, all trials.
+    pub short_takeoffs: u64,
+    /// … of them inside an encounter.
+    pub short_takeoffs_in_encounter: u64,
     /// Fraction of robot-frames in each controller state.
     pub state_fraction: BTreeMap<String, f64>,
     /// Success rate per background.
@@ -226,6 +235,8 @@ pub(super) fn summarise(controller: &'static str, trials: &[&Trial]) -> Controll
         // every trial has as many robot-frames, so plain means pool them
         wall_contact_fraction: mean(trials.iter().map(|t| t.wall_contact_fraction)),
         mean_speed_mm_s: mean(trials.iter().map(|t| t.mean_speed_mm_s)),
+        short_takeoffs: trials.iter().map(|t| t.short_takeoffs).sum(),
+        short_takeoffs_in_encounter: trials.iter().map(|t| t.short_takeoffs_in_encounter).sum(),
         state_fraction: state_frames
             .iter()
             .map(|(s, &n)| (s.clone(), n as f64 / robot_frames.max(1) as f64))

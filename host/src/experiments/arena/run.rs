@@ -101,11 +101,13 @@ pub(super) fn run_trial(
     let (mut contact_frames, mut distance_mm) = (0u64, 0.0f64);
     let mut reported = 0;
     let mut trace = Vec::new();
+    let mut starts = ShortStarts::new(prep.starts.len());
     for f in 1..=prep.frames {
         sim.step();
         if config.trace {
             trace_frame(&sim, &arena, f - 1, &mut trace);
         }
+        starts.observe(&sim, &arena);
         for (p, q) in sim.physics.poses().iter().zip(last.iter_mut()) {
             if arena.wall_distance(p.x_mm, p.y_mm) < ROBOT_RADIUS_MM + WALL_CONTACT_SLACK_MM {
                 contact_frames += 1;
@@ -172,6 +174,8 @@ pub(super) fn run_trial(
         robot_wall: TallyStats::new(&counts.robot_wall, minutes),
         wall_touches: counts.wall_touches,
         wall_contact_fraction: contact_frames as f64 / robot_frames.max(1) as f64,
+        short_takeoffs: starts.total,
+        short_takeoffs_in_encounter: starts.in_encounter,
         mean_speed_mm_s: distance_mm / (robot_frames.max(1) as f64 * FRAME_DT_S),
         state_fraction,
         state_frames,
@@ -183,6 +187,53 @@ pub(super) fn run_trial(
         trace,
     }
 }
+
+/// Counts the short takeoffs the robots start, and how many of them start inside an
+/// encounter: a wall within [`WALL_ENCOUNTER_DISTANCE_MM`] or another robot within
+/// [`ROBOT_ENCOUNTER_DISTANCE_MM`] of the robot's centre (the paper's short mode is for a
+/// threat that is already close; issue "short takeoff only around real threats").
+pub(super) struct ShortStarts {
+    last: Vec<&'static str>,
+    /// Short takeoffs started.
+    pub total: u64,
+    /// … of them inside an encounter.
+    pub in_encounter: u64,
+}
+
+impl ShortStarts {
+    /// No robot in short takeoff yet.
+    pub fn new(robots: usize) -> Self {
+        ShortStarts {
+            last: vec![""; robots],
+            total: 0,
+            in_encounter: 0,
+        }
+    }
+
+    /// Looks at the frame just simulated.
+    pub fn observe(&mut self, sim: &Sim, arena: &Arena) {
+        let poses = sim.physics.poses();
+        for (i, (p, cmd)) in poses.iter().zip(sim.commands()).enumerate() {
+            let Some(last) = self.last.get_mut(i) else {
+                continue;
+            };
+            if cmd.state == SHORT_TAKEOFF && *last != SHORT_TAKEOFF {
+                self.total += 1;
+                let near_robot = poses
+                    .iter()
+                    .enumerate()
+                    .any(|(j, q)| j != i && p.distance_to(q) < ROBOT_ENCOUNTER_DISTANCE_MM);
+                if near_robot || arena.wall_distance(p.x_mm, p.y_mm) < WALL_ENCOUNTER_DISTANCE_MM {
+                    self.in_encounter += 1;
+                }
+            }
+            *last = cmd.state;
+        }
+    }
+}
+
+/// The short takeoff's state name in [`crate::arena::controller::Command::state`].
+const SHORT_TAKEOFF: &str = "short_takeoff";
 
 /// Appends the trace lines of camera frame `frame` (just simulated), one per robot.
 pub(super) fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<String>) {
