@@ -125,7 +125,8 @@ struct CommonArgs {
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
+    /// escape_saccade.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -326,7 +327,8 @@ struct ArenaArgs {
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
+    /// escape_saccade.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -349,7 +351,8 @@ struct ModelArgs {
     /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength.
+    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
+    /// escape_saccade.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

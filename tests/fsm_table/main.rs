@@ -15,6 +15,7 @@ mod fixtures;
 mod gamma;
 mod parameters;
 mod robustness;
+mod saccade;
 mod strength;
 mod suppression;
 mod swarm;

@@ -45,6 +45,10 @@ fn fsm_parameters_are_set_by_name_with_checked_values() {
         msg("live_strength", "3"),
         "FSM parameter live_strength must be 0 (latched), 1 (escape) or 2 (escape and γ path)"
     );
+    assert_eq!(
+        msg("escape_saccade", "2"),
+        "FSM parameter escape_saccade must be 0 (γ path, the paper) or 1 (saccade to θ¹)"
+    );
     // every name is accepted
     for name in FsmParams::NAMES {
         assert_eq!(FsmParams::default().set(name, "1"), Ok(()), "{name}");

@@ -155,6 +155,7 @@ proptest! {
             blocked_yaw_deg: vals[11],
             takeoff_drive: vals[12],
             live_strength: counts[7] % 3,
+            escape_saccade: counts[6] % 2,
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

@@ -162,6 +162,14 @@ pub struct FsmParams {
     /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
     /// the outdoor photographs, so it stays opt-in.
     pub live_strength: u32,
+    /// Short mode during an Escape: 0, the default, starts the paper's γ path (a new takeoff,
+    /// reversing first); 1 starts a saccade instead, a turn in place to `θ¹_short` (90° away
+    /// from the threat's side), then the escape goes on at the new heading. A fly that has
+    /// taken off answers looming ahead with a collision-avoidance saccade away from the
+    /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
+    /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
+    /// fleeing. Measured in `docs/experiments.md` ("Closed-loop mechanisms").
+    pub escape_saccade: u32,
 }
 
 impl Default for FsmParams {
@@ -189,13 +197,14 @@ impl Default for FsmParams {
             blocked_yaw_deg: 10.0,
             takeoff_drive: 0.0,
             live_strength: 0,
+            escape_saccade: 0,
         }
     }
 }
 
 impl FsmParams {
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 22] = [
+    pub const NAMES: [&'static str; 23] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -218,6 +227,7 @@ impl FsmParams {
         "retreat_frames",
         "takeoff_drive",
         "live_strength",
+        "escape_saccade",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
@@ -262,6 +272,10 @@ impl FsmParams {
             "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
             "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
             "retreat_frames" => p.retreat_frames = count()?,
+            "escape_saccade" => {
+                p.escape_saccade = count()
+                    .and_then(|n| (n <= 1).then_some(n).ok_or(FsmParamError::Invalid { name }))?
+            }
             "live_strength" => {
                 p.live_strength = count()
                     .and_then(|n| (n <= 2).then_some(n).ok_or(FsmParamError::Invalid { name }))?
@@ -302,6 +316,10 @@ impl core::fmt::Display for FsmParamError {
                 f,
                 "FSM parameter {name} must be a whole number of frames in 0..={}",
                 u32::MAX
+            ),
+            FsmParamError::Invalid { name } if *name == "escape_saccade" => write!(
+                f,
+                "FSM parameter {name} must be 0 (γ path, the paper) or 1 (saccade to θ¹)"
             ),
             FsmParamError::Invalid { name } if *name == "live_strength" => write!(
                 f,
@@ -587,6 +605,14 @@ impl Fsm {
         // Short mode overrides every state (Sec. II-B) but does not re-latch an ongoing γ path:
         // θ_short is relative to the heading, so re-latching each frame while the robot turns
         // would move the set-points with it and the path would never end.
+        // `FsmParams::escape_saccade`: during an escape, a saccade to θ¹ instead of a γ path
+        if vm.short_mode && self.state == State::Escape && self.params.escape_saccade == 1 {
+            if let Some([t1, _]) = vm.theta_short {
+                self.enter_turn(h, t1);
+                self.strength = limit(vm.strength, 1.0).max(0.0);
+                return;
+            }
+        }
         if vm.short_mode && self.state != State::ShortTakeoff {
             if let Some([t1, t2]) = vm.theta_short {
                 self.state = State::ShortTakeoff;

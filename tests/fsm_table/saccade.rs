@@ -1,0 +1,57 @@
+//! `FsmParams::escape_saccade`: short mode during an escape turns the robot 90° away from the
+//! threat's side (a saccade) instead of starting a γ path.
+
+use super::*;
+
+fn with_saccade() -> FsmParams {
+    FsmParams {
+        escape_saccade: 1,
+        ..params()
+    }
+}
+
+#[test]
+fn short_mode_during_an_escape_starts_a_saccade_to_theta_1() {
+    // into an escape at heading `h` (the fixture's threat was on the right)
+    let mut f = Fsm::new(with_saccade(), Behaviour::Escape);
+    let h = 20.0;
+    f.step(&quiet(), h);
+    let sp = f.step(&long(RIGHT_X), h).heading_setpoint_deg;
+    assert_eq!(f.step(&quiet(), sp).state, State::Escape);
+    // a fierce threat on the right of the new heading: θ¹ = α·(88 − 49) − 90 ≈ −62°, left
+    let vm = short(RIGHT_X);
+    let [t1, _] = vm.theta_short.unwrap();
+    assert!(t1 < -45.0 && t1 > -90.0, "{t1}");
+    let c = f.step(&vm, sp);
+    assert_eq!((c.state, c.short_phase), (State::LongTakeoff, None));
+    assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
+    // in place: the wheels turn left against each other, no retreat
+    assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3);
+    assert!(c.left_mm_s < 0.0 && c.right_mm_s > 0.0);
+    // aligned: the escape goes on at the saccade's heading
+    let c = f.step(&quiet(), wrap_deg(sp + t1));
+    assert_eq!(c.state, State::Escape);
+    assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
+    assert!(c.left_mm_s > 0.0 && c.right_mm_s > 0.0);
+}
+
+#[test]
+fn short_mode_outside_an_escape_is_still_the_gamma_path() {
+    for state in ["wander", "long takeoff"] {
+        let mut f = Fsm::new(with_saccade(), Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        if state == "long takeoff" {
+            assert_eq!(f.step(&long(LEFT_X), 0.0).state, State::LongTakeoff);
+        }
+        let c = f.step(&short(RIGHT_X), 0.0);
+        assert_eq!(
+            (c.state, c.short_phase),
+            (State::ShortTakeoff, Some(ShortPhase::Retreat)),
+            "{state}"
+        );
+    }
+    // and without the parameter, an escape's short mode is the γ path too
+    let (mut f, sp) = in_escape(0.0);
+    let c = f.step(&short(RIGHT_X), sp);
+    assert_eq!(c.short_phase, Some(ShortPhase::Retreat));
+}
