@@ -140,10 +140,13 @@ fn counts_are_consistent() {
         let sum: f64 = s.state_fraction.values().sum();
         assert!((sum - 1.0).abs() < 1e-9);
         assert_eq!(
-            s.short_takeoffs_in_encounter,
-            mine.iter()
-                .map(|t| t.short_takeoffs_in_encounter)
-                .sum::<u64>()
+            (s.short_takeoffs, s.short_takeoffs_in_encounter),
+            (
+                mine.iter().map(|t| t.short_takeoffs).sum::<u64>(),
+                mine.iter()
+                    .map(|t| t.short_takeoffs_in_encounter)
+                    .sum::<u64>()
+            )
         );
     }
     assert!(
@@ -199,6 +202,8 @@ fn trace_follows_every_robot_frame_by_frame() {
         let mut states = std::collections::BTreeMap::new();
         // short takeoffs started, and those started inside an encounter
         let (mut last, mut starts, mut near) = (vec![String::new(); t.robots], 0u64, 0u64);
+        // starts whose distances lie within the trace's rounding of a limit
+        let mut borderline = 0u64;
         // frame-major: one line per robot, in order, for every frame
         for (frame, lines) in rows.chunks(t.robots).enumerate() {
             let num = |r: &[&str], name: &str| r[col(name)].parse::<f64>().unwrap();
@@ -220,11 +225,23 @@ fn trace_follows_every_robot_frame_by_frame() {
                 let wall = arena.wall_distance(f("x_mm"), f("y_mm"));
                 if r[col("state")] == "short_takeoff" && last[i] != "short_takeoff" {
                     starts += 1;
-                    let robot_near = xy.iter().enumerate().any(|(j, q)| {
-                        j != i && (q.0 - xy[i].0).hypot(q.1 - xy[i].1) < ROBOT_ENCOUNTER_DISTANCE_MM
-                    });
+                    let robots: Vec<f64> = xy
+                        .iter()
+                        .enumerate()
+                        .filter(|&(j, _)| j != i)
+                        .map(|(_, q)| (q.0 - xy[i].0).hypot(q.1 - xy[i].1))
+                        .collect();
+                    let robot_near = robots.iter().any(|&d| d < ROBOT_ENCOUNTER_DISTANCE_MM);
                     if robot_near || wall < WALL_ENCOUNTER_DISTANCE_MM {
                         near += 1;
+                    }
+                    let close = |d: f64, limit: f64| (d - limit).abs() < 0.2;
+                    if close(wall, WALL_ENCOUNTER_DISTANCE_MM)
+                        || robots
+                            .iter()
+                            .any(|&d| close(d, ROBOT_ENCOUNTER_DISTANCE_MM))
+                    {
+                        borderline += 1;
                     }
                 }
                 last[i] = r[col("state")].to_string();
@@ -244,12 +261,16 @@ fn trace_follows_every_robot_frame_by_frame() {
             }
         }
         assert_eq!(states, t.state_frames, "{}", t.controller);
-        assert_eq!(
-            (t.short_takeoffs, t.short_takeoffs_in_encounter),
-            (starts, near),
-            "{}",
-            t.controller
+        assert_eq!(t.short_takeoffs, starts, "{}", t.controller);
+        assert!(
+            t.short_takeoffs_in_encounter.abs_diff(near) <= borderline,
+            "{}: {} against {near}",
+            t.controller,
+            t.short_takeoffs_in_encounter
         );
+        if t.controller == "alvs" {
+            assert!(starts > 0, "ALVS starts short takeoffs in these 6 s");
+        }
         // the last frame's lines hold the end poses
         let last = &rows[rows.len() - t.robots..];
         for (r, end) in last.iter().zip(&t.end_poses) {

@@ -129,7 +129,7 @@ proptest! {
     #[test]
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 13),
-        counts in proptest::collection::vec(any::<u32>(), 8),
+        counts in proptest::collection::vec(any::<u32>(), 10),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
@@ -154,8 +154,8 @@ proptest! {
             blocked_travel_mm: vals[10],
             blocked_yaw_deg: vals[11],
             takeoff_drive: vals[12],
-            live_strength: counts[7] % 3,
-            escape_saccade: counts[6] % 2,
+            live_strength: counts[8],
+            escape_saccade: counts[9],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

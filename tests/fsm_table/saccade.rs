@@ -36,6 +36,30 @@ fn short_mode_during_an_escape_starts_a_saccade_to_theta_1() {
 }
 
 #[test]
+fn short_mode_during_the_saccade_starts_a_new_saccade_not_a_gamma_path() {
+    let mut f = Fsm::new(with_saccade(), Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    let sp = f.step(&long(RIGHT_X), 0.0).heading_setpoint_deg;
+    assert_eq!(f.step(&quiet(), sp).state, State::Escape);
+    let first = f.step(&short(RIGHT_X), sp);
+    assert_eq!(first.state, State::LongTakeoff);
+    // still turning (the heading is frozen here) when a fierce threat comes from the left:
+    // a new saccade, 90° away from it (to the right), latched from the current heading
+    let vm = short(LEFT_X);
+    let [t1, _] = vm.theta_short.unwrap();
+    assert!(t1 > 45.0, "{t1}");
+    let c = f.step(&vm, sp);
+    assert_eq!((c.state, c.short_phase), (State::LongTakeoff, None));
+    assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
+    // a long takeoff that is not a saccade still yields to the γ path
+    let mut f = Fsm::new(with_saccade(), Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    assert_eq!(f.step(&long(RIGHT_X), 0.0).state, State::LongTakeoff);
+    let c = f.step(&short(LEFT_X), 0.0);
+    assert_eq!(c.short_phase, Some(ShortPhase::Retreat));
+}
+
+#[test]
 fn short_mode_outside_an_escape_is_still_the_gamma_path() {
     for state in ["wander", "long takeoff"] {
         let mut f = Fsm::new(with_saccade(), Behaviour::Escape);

@@ -160,15 +160,17 @@ pub struct FsmParams {
     /// suppressed, Eq. (11)'s time argument taken literally (with nothing looming `S` = 0.5 and
     /// the escape slows to half `max_escape_mm_s`). 2: also during the γ path. Measured in
     /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
-    /// the outdoor photographs, so it stays opt-in.
+    /// the outdoor photographs, so it stays opt-in. Values above 2 act as 2.
     pub live_strength: u32,
     /// Short mode during an Escape: 0, the default, starts the paper's γ path (a new takeoff,
-    /// reversing first); 1 starts a saccade instead, a turn in place to `θ¹_short` (90° away
-    /// from the threat's side), then the escape goes on at the new heading. A fly that has
+    /// reversing first); 1 starts a saccade instead, a long takeoff to `θ¹_short` (90° away
+    /// from the threat's side; in place unless `takeoff_drive` > 0), then the escape goes on at
+    /// the new heading. Short mode during the saccade starts a new saccade. A fly that has
     /// taken off answers looming ahead with a collision-avoidance saccade away from the
     /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
     /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
-    /// fleeing. Measured in `docs/experiments.md` ("Closed-loop mechanisms").
+    /// fleeing. Measured in `docs/experiments.md` ("Closed-loop mechanisms"). Any value other
+    /// than 0 acts as 1.
     pub escape_saccade: u32,
 }
 
@@ -232,8 +234,8 @@ impl FsmParams {
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
     /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression);
-    /// counts are whole frames; `live_strength` is 0, 1 or 2. A refused value leaves the
-    /// parameters unchanged.
+    /// counts are whole frames; `live_strength` is 0, 1 or 2 and `escape_saccade` 0 or 1. A
+    /// refused value leaves the parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
         let v = value.trim();
         let name: &'static str = FsmParams::NAMES
@@ -291,7 +293,8 @@ impl FsmParams {
 pub enum FsmParamError {
     /// No FSM parameter has that name (see [`FsmParams::NAMES`]).
     Unknown,
-    /// Not a non-negative number (reals) or a whole number of frames (counts).
+    /// Not a non-negative number (reals), a whole number of frames (counts), or one of the
+    /// listed modes (`live_strength` 0–2, `escape_saccade` 0–1).
     Invalid {
         /// Parameter name.
         name: &'static str,
@@ -409,6 +412,8 @@ pub struct Fsm {
     setpoint2: f32,
     /// Wander has a heading to hold (false until the first valid frame).
     latched: bool,
+    /// The current long takeoff is an escape saccade (`FsmParams::escape_saccade`).
+    saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
     /// Frames since entering the state (Spin: since the last alert).
@@ -438,6 +443,7 @@ impl Fsm {
             setpoint: 0.0,
             setpoint2: 0.0,
             latched: false,
+            saccade: false,
             strength: 0.5,
             frames: 0,
             quiet: 0,
@@ -587,6 +593,7 @@ impl Fsm {
     /// A long takeoff to `h + theta` (the escape strength stays as latched).
     fn enter_turn(&mut self, h: f32, theta: f32) {
         self.state = State::LongTakeoff;
+        self.saccade = false;
         self.short_phase = None;
         self.setpoint = wrap_deg(h + theta);
         self.frames = 0;
@@ -602,17 +609,21 @@ impl Fsm {
     }
 
     fn transition_escape(&mut self, vm: &Visuomotor, h: f32) {
-        // Short mode overrides every state (Sec. II-B) but does not re-latch an ongoing γ path:
-        // θ_short is relative to the heading, so re-latching each frame while the robot turns
-        // would move the set-points with it and the path would never end.
-        // `FsmParams::escape_saccade`: during an escape, a saccade to θ¹ instead of a γ path
-        if vm.short_mode && self.state == State::Escape && self.params.escape_saccade == 1 {
+        // `FsmParams::escape_saccade`: short mode during an escape, or during the saccade it
+        // started, starts a (new) saccade to θ¹ instead of a γ path.
+        let in_flight =
+            self.state == State::Escape || (self.state == State::LongTakeoff && self.saccade);
+        if vm.short_mode && in_flight && self.params.escape_saccade != 0 {
             if let Some([t1, _]) = vm.theta_short {
                 self.enter_turn(h, t1);
+                self.saccade = true;
                 self.strength = limit(vm.strength, 1.0).max(0.0);
                 return;
             }
         }
+        // Short mode overrides every state (Sec. II-B) but does not re-latch an ongoing γ path:
+        // θ_short is relative to the heading, so re-latching each frame while the robot turns
+        // would move the set-points with it and the path would never end.
         if vm.short_mode && self.state != State::ShortTakeoff {
             if let Some([t1, t2]) = vm.theta_short {
                 self.state = State::ShortTakeoff;
