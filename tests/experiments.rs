@@ -75,6 +75,22 @@ fn a_blurred_camera_still_escapes_to_the_correct_side() {
     assert_ne!(turns(&sharp), turns(&blurred));
 }
 
+/// The evasion holds the tested robot still until its first alert. Its FSM is told the wheels
+/// did not move, so the blocked way (efference copy of forward travel) does not read "commanding
+/// travel, view unchanged" as a wall and turn it round before the obstacle comes.
+#[test]
+fn a_held_robot_with_the_blocked_way_still_escapes_to_the_correct_side() {
+    let mut params = alvs_tasks::Params::default();
+    params.set("blocked_change", "6").unwrap();
+    let config = EvasionConfig {
+        controllers: alvs_only(),
+        params,
+        ..EvasionConfig::default()
+    };
+    let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+    assert_eq!(r.controllers[0].correct_side, 9, "{}", r.table());
+}
+
 /// Paper Fig. 4c,d: the direction-blind LGMD2 escape "result[s] in a higher likelihood of
 /// collisions". On plain walls (a lab arena) ALVS's directed turn clears the obstacle from
 /// most bearings while LGMD2's random turn does not. (On the textured default walls both

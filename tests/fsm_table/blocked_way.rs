@@ -47,6 +47,20 @@ fn a_changing_view_no_view_or_too_little_travel_do_nothing() {
 }
 
 #[test]
+fn a_held_robot_is_not_blocked() {
+    // the same still view, but the wheels never carried out the commands (motors disabled or
+    // the robot held): no travel, so no turning round
+    let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+    for _ in 0..40 {
+        assert_eq!(f.step(&seeing(120), 0.0).state, State::Wander);
+        f.command_not_applied();
+    }
+    // released, it drives: within two comparison periods the still view turns it round
+    let states: Vec<State> = (0..31).map(|_| f.step(&seeing(120), 0.0).state).collect();
+    assert!(states.contains(&State::LongTakeoff), "{states:?}");
+}
+
+#[test]
 fn the_blocked_way_parameters_are_set_by_name() {
     let mut p = FsmParams::default();
     assert_eq!(

@@ -49,6 +49,9 @@ pub trait Controller: Send {
     fn sees(&self) -> bool {
         true
     }
+    /// The wheels did not carry out the last command (the robot is held): a controller with
+    /// efference copies of its commands forgets that one.
+    fn command_not_applied(&mut self) {}
 }
 
 /// Which controller a robot runs.
@@ -140,6 +143,10 @@ impl Controller for AlvsController {
                 short_mode: out.vm.short_mode,
             },
         }
+    }
+
+    fn command_not_applied(&mut self) {
+        self.fsm.command_not_applied();
     }
 }
 
@@ -348,12 +355,17 @@ impl Controller for HoldUntilAlert {
         self.inner.sees()
     }
 
+    fn command_not_applied(&mut self) {
+        self.inner.command_not_applied();
+    }
+
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
         let c = self.inner.step(frame, heading_deg);
         self.released |= c.alert;
         if self.released {
             c
         } else {
+            self.inner.command_not_applied();
             Command {
                 left_mm_s: 0.0,
                 right_mm_s: 0.0,

@@ -557,6 +557,15 @@ impl Fsm {
         blocked
     }
 
+    /// The wheels did not carry out the last command (motors disabled, or the robot held):
+    /// the efference copies of the next step, the forward travel of the blocked way and the
+    /// yaw rate of the saccadic suppression, count what the wheels did, nothing. Without it a
+    /// held robot's FSM "drives" 50 mm in 15 frames, sees its view unchanged and turns round.
+    pub fn command_not_applied(&mut self) {
+        self.last_forward_mm_s = 0.0;
+        self.last_yaw_deg_s = 0.0;
+    }
+
     /// Whether the next frame's perception will be ignored (the robot is turning fast, or
     /// settling after a fast turn).
     pub fn suppressed(&self) -> bool {
