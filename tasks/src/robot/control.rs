@@ -44,14 +44,13 @@ impl<H: HeadingEstimator> Control<H> {
     }
 
     /// One frame: the FSM's transition on `vm` and its wheel speeds, and the frames to send.
-    /// With `enable` false (priming, a fault) the frames stop the motors, and the heading
-    /// estimate and the FSM's efference copies see still wheels; the FSM still runs, so it is
-    /// current when motion resumes.
+    /// With `enable` false (priming, a fault) the frames stop the motors and the heading
+    /// estimate sees still wheels; the FSM still runs, so it is current when motion resumes.
+    /// (Its efference copies still read the commands: telling it with
+    /// `Fsm::command_not_applied` costs 56 B of running stack, and only matters with the
+    /// opt-in blocked way; docs/experiments.md.)
     pub fn step(&mut self, vm: &Visuomotor, enable: bool) -> (MotorCommand, MotorFrames) {
         let c = self.fsm.step(vm, self.heading.heading_deg());
-        if !enable {
-            self.fsm.command_not_applied();
-        }
         let frames = self.motors.update(enable, c.left_mm_s, c.right_mm_s);
         let (l, r) = if enable {
             (c.left_mm_s, c.right_mm_s)
