@@ -252,6 +252,14 @@ impl FsmParams {
             v.parse::<u32>()
                 .map_err(|_| FsmParamError::Invalid { name })
         };
+        // a mode: a count in 0..=max
+        let mode = |max: u32| {
+            count().and_then(|n| {
+                (n <= max)
+                    .then_some(n)
+                    .ok_or(FsmParamError::Invalid { name })
+            })
+        };
         let p = self;
         match name {
             "cruise_mm_s" => p.cruise_mm_s = real(false)?,
@@ -274,14 +282,8 @@ impl FsmParams {
             "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
             "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
             "retreat_frames" => p.retreat_frames = count()?,
-            "escape_saccade" => {
-                p.escape_saccade = count()
-                    .and_then(|n| (n <= 1).then_some(n).ok_or(FsmParamError::Invalid { name }))?
-            }
-            "live_strength" => {
-                p.live_strength = count()
-                    .and_then(|n| (n <= 2).then_some(n).ok_or(FsmParamError::Invalid { name }))?
-            }
+            "escape_saccade" => p.escape_saccade = mode(1)?,
+            "live_strength" => p.live_strength = mode(2)?,
             _ => p.takeoff_drive = real(false)?,
         }
         Ok(())
@@ -513,7 +515,7 @@ impl Fsm {
             vm
         };
         if self.follows_strength(ignored) {
-            self.strength = limit(vm.strength, 1.0).max(0.0);
+            self.latch_strength(vm);
         }
         let blocked = self.blocked(vm, h);
         match self.behaviour {
@@ -572,6 +574,11 @@ impl Fsm {
         self.last_yaw_deg_s > self.params.saccade_yaw_deg_s || self.settle > 0
     }
 
+    /// Takes this frame's `S(t)` as the escape strength, clamped to [0, 1].
+    fn latch_strength(&mut self, vm: &Visuomotor) {
+        self.strength = limit(vm.strength, 1.0).max(0.0);
+    }
+
     /// Whether this frame's `S(t)` replaces the latched strength (`FsmParams::live_strength`).
     fn follows_strength(&self, ignored: bool) -> bool {
         let live = self.params.live_strength;
@@ -596,7 +603,7 @@ impl Fsm {
         // An alert without a bearing (not produced by `Visuomotor::from_fields`) is taken as a
         // threat dead ahead: turn around.
         self.enter_turn(h, vm.theta_long.unwrap_or(180.0));
-        self.strength = limit(vm.strength, 1.0).max(0.0);
+        self.latch_strength(vm);
     }
 
     /// A long takeoff to `h + theta` (the escape strength stays as latched).
@@ -626,7 +633,7 @@ impl Fsm {
             if let Some([t1, _]) = vm.theta_short {
                 self.enter_turn(h, t1);
                 self.saccade = true;
-                self.strength = limit(vm.strength, 1.0).max(0.0);
+                self.latch_strength(vm);
                 return;
             }
         }
@@ -639,7 +646,7 @@ impl Fsm {
                 self.short_phase = Some(ShortPhase::Retreat);
                 self.setpoint = wrap_deg(h + t1);
                 self.setpoint2 = wrap_deg(h + t2);
-                self.strength = limit(vm.strength, 1.0).max(0.0);
+                self.latch_strength(vm);
                 self.frames = 0;
                 self.quiet = 0;
                 return;

@@ -233,7 +233,7 @@ impl ShortStarts {
 }
 
 /// The short takeoff's state name in [`crate::arena::controller::Command::state`].
-const SHORT_TAKEOFF: &str = "short_takeoff";
+const SHORT_TAKEOFF: &str = alvs_tasks::model::fsm::State::ShortTakeoff.name();
 
 /// Appends the trace lines of camera frame `frame` (just simulated), one per robot.
 pub(super) fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<String>) {
