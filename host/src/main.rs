@@ -113,9 +113,9 @@ struct CommonArgs {
     /// Write the results as JSON.
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
-    /// The perception model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
-    /// on top.
+    /// The model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -313,9 +313,9 @@ struct ArenaArgs {
     /// robot and frame, 28 MB for the default run.
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
-    /// The perception model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
-    /// on top.
+    /// The model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -337,9 +337,9 @@ struct ArenaArgs {
 
 #[derive(clap::Args)]
 struct ModelArgs {
-    /// The perception model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly). --param overrides apply
-    /// on top.
+    /// The model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -363,9 +363,10 @@ struct ModelArgs {
 /// A parameter preset of the perception model (`Params::preset`).
 #[derive(Clone, Copy, ValueEnum)]
 enum Model {
-    /// The paper's model plus the closed-loop mechanisms (`Params::ALVS`), the firmware's.
+    /// The paper's model plus the closed-loop mechanisms (`Params::ALVS`, `FsmParams::ALVS`),
+    /// the firmware's.
     Alvs,
-    /// The paper's model exactly (`Params::PAPER`).
+    /// The paper's model exactly (`Params::PAPER`, `FsmParams::PAPER`).
     Paper,
 }
 
@@ -374,6 +375,13 @@ impl Model {
         match self {
             Model::Alvs => Params::ALVS,
             Model::Paper => Params::PAPER,
+        }
+    }
+
+    fn fsm(self) -> FsmParams {
+        match self {
+            Model::Alvs => FsmParams::ALVS,
+            Model::Paper => FsmParams::PAPER,
         }
     }
 }
@@ -436,9 +444,9 @@ fn parse_params(model: Model, overrides: &[String]) -> Result<Params> {
     Ok(p)
 }
 
-/// The motion parameters with `--fsm NAME=VALUE` overrides applied.
-fn parse_fsm(overrides: &[String]) -> Result<FsmParams> {
-    let mut p = FsmParams::default();
+/// The motion parameters of `model` with `--fsm NAME=VALUE` overrides applied.
+fn parse_fsm(model: Model, overrides: &[String]) -> Result<FsmParams> {
+    let mut p = model.fsm();
     apply_overrides("fsm", overrides, |k, v| p.set(k, v))?;
     Ok(p)
 }
@@ -449,7 +457,7 @@ impl ModelArgs {
     }
 
     fn fsm(&self) -> Result<FsmParams> {
-        parse_fsm(&self.fsm)
+        parse_fsm(self.model, &self.fsm)
     }
 
     fn behaviour(&self) -> Behaviour {
@@ -665,7 +673,7 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
     let config = stimuli::StimuliConfig {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
-        fsm: parse_fsm(&a.common.fsm)?,
+        fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     };
@@ -682,7 +690,7 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
-        fsm: parse_fsm(&a.common.fsm)?,
+        fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -709,7 +717,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
-        fsm: parse_fsm(&a.common.fsm)?,
+        fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -734,7 +742,7 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         controllers: kinds(&a.controllers, &[Kind::Swarm, Kind::Alvs]),
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
-        fsm: parse_fsm(&a.common.fsm)?,
+        fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     };
@@ -763,7 +771,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         },
         seed: a.seed,
         params: parse_params(a.model, &a.params)?,
-        fsm: parse_fsm(&a.fsm)?,
+        fsm: parse_fsm(a.model, &a.fsm)?,
         trace: a.trace.is_some(),
         exposure: a.camera.exposure,
         ..ArenaConfig::default()

@@ -175,36 +175,47 @@ pub struct FsmParams {
 }
 
 impl Default for FsmParams {
+    /// [`FsmParams::ALVS`], what the firmware runs.
     fn default() -> Self {
-        FsmParams {
-            cruise_mm_s: 100.0,
-            max_escape_mm_s: 200.0,
-            retreat_mm_s: 150.0,
-            retreat_frames: u32::MAX,
-            max_wheel_mm_s: 300.0,
-            track_mm: 48.0,
-            heading_gain: 4.0,
-            max_yaw_deg_s: 360.0,
-            align_tol_deg: 10.0,
-            min_escape_frames: 30,
-            quiet_frames: 15,
-            takeoff_timeout_frames: 90,
-            spin_frames: 30,
-            spin_deg_s: 180.0,
-            saccade_yaw_deg_s: 45.0,
-            settle_frames: 0,
-            alert_frames: 1,
-            blocked_frames: 15,
-            blocked_travel_mm: 40.0,
-            blocked_yaw_deg: 10.0,
-            takeoff_drive: 0.0,
-            live_strength: 0,
-            escape_saccade: 0,
-        }
+        FsmParams::ALVS
     }
 }
 
 impl FsmParams {
+    /// The motion of the paper's model (`--model paper`): the paper's FSM (Sec. II-B, γ paths
+    /// from every state) with the choices the paper leaves open (speeds, rates, durations;
+    /// `docs/model.md`).
+    pub const PAPER: FsmParams = FsmParams {
+        cruise_mm_s: 100.0,
+        max_escape_mm_s: 200.0,
+        retreat_mm_s: 150.0,
+        retreat_frames: u32::MAX,
+        max_wheel_mm_s: 300.0,
+        track_mm: 48.0,
+        heading_gain: 4.0,
+        max_yaw_deg_s: 360.0,
+        align_tol_deg: 10.0,
+        min_escape_frames: 30,
+        quiet_frames: 15,
+        takeoff_timeout_frames: 90,
+        spin_frames: 30,
+        spin_deg_s: 180.0,
+        saccade_yaw_deg_s: 45.0,
+        settle_frames: 0,
+        alert_frames: 1,
+        blocked_frames: 15,
+        blocked_travel_mm: 40.0,
+        blocked_yaw_deg: 10.0,
+        takeoff_drive: 0.0,
+        live_strength: 0,
+        escape_saccade: 0,
+    };
+
+    /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
+    /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
+    /// mechanisms").
+    pub const ALVS: FsmParams = FsmParams { ..FsmParams::PAPER };
+
     /// Names accepted by [`FsmParams::set`], in declaration order.
     pub const NAMES: [&'static str; 23] = [
         "cruise_mm_s",
