@@ -852,6 +852,23 @@ mod tests {
     }
 
     #[test]
+    fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
+        assert_eq!(FsmParams::default(), FsmParams::ALVS);
+        let p = FsmParams::PAPER;
+        // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
+        // retreat: the paper's FSM (docs/model.md)
+        assert_eq!(
+            (
+                p.escape_saccade,
+                p.live_strength,
+                p.takeoff_drive,
+                p.retreat_frames
+            ),
+            (0, 0, 0.0, u32::MAX)
+        );
+    }
+
+    #[test]
     fn mixing_follows_the_right_positive_convention() {
         let p = FsmParams::default();
         // straight
