@@ -48,7 +48,9 @@ mod app {
     use alvs_tasks::model::fsm::{Behaviour, FsmParams};
     use alvs_tasks::robot::camera::{Counters, FrameEnd};
     use alvs_tasks::robot::control::Control;
-    use alvs_tasks::robot::health::{Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS};
+    use alvs_tasks::robot::health::{
+        hold_command, Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS,
+    };
     use alvs_tasks::robot::telemetry::Record;
     use alvs_tasks::{Network, Perception};
     use core::sync::atomic::Ordering;
@@ -58,7 +60,7 @@ mod app {
     use rtic_monotonics::systick::prelude::{systick_monotonic, Monotonic};
     use rtic_sync::channel::{Receiver, Sender};
     use rtic_sync::make_channel;
-    use rtt_target::{rprintln, rtt_init, set_print_channel, UpChannel};
+    use rtt_target::{rprintln, rtt_init, set_print_channel, DownChannel, UpChannel};
     use stm32f4xx_hal::prelude::*;
     use stm32f4xx_hal::watchdog::IndependentWatchdog;
 
@@ -91,6 +93,8 @@ mod app {
     #[local]
     struct Local {
         telemetry: UpChannel,
+        /// RTT down channel 0 "control": `h` holds the motors, `g` lets them go.
+        console: DownChannel,
         records_tx: Sender<'static, Record, TELEMETRY_QUEUE>,
         records_rx: Receiver<'static, Record, TELEMETRY_QUEUE>,
         watchdog: IndependentWatchdog,
@@ -105,7 +109,7 @@ mod app {
         // configuration below is visible on the probe. Channel 0 "log" (text, the print channel
         // of `rprintln!` and of panic-probe's `print-rtt`), channel 1 "telemetry". Both
         // NoBlockSkip: output is dropped, never blocking, when no probe reads it (the robot runs
-        // untethered).
+        // untethered). Down channel 0 "control" takes one-letter commands (`h` hold, `g` go).
         let channels = rtt_init! {
             up: {
                 0: {
@@ -116,6 +120,13 @@ mod app {
                     // ~3 KB/s of lines; a probe polls many times a second
                     size: 1024,
                     name: "telemetry"
+                }
+            }
+            down: {
+                0: {
+                    // one letter at a time: a hold is typed, not streamed
+                    size: 4,
+                    name: "control"
                 }
             }
         };
@@ -189,6 +200,7 @@ mod app {
             },
             Local {
                 telemetry: channels.up.1,
+                console: channels.down.0,
                 records_tx,
                 records_rx,
                 watchdog,
@@ -297,7 +309,7 @@ mod app {
         p: Perception,
         cycles: u32,
     ) {
-        let enable = cx.shared.safety.lock(|s| s.fault().is_none() && s.primed());
+        let enable = cx.shared.safety.lock(|s| s.motors_allowed());
         let (command, frames, turn) = cx.shared.control.lock(|c| {
             let (command, frames) = c.step(&p.vm, enable);
             (command, frames, c.last_turn_deg())
@@ -312,10 +324,23 @@ mod app {
     }
 
     /// Every 10 ms: the safety policy. Feeds the watchdog on perception progress, stops the
-    /// motors on a fault (camera stall, overrun burst), and asks for a fresh model after one.
-    #[task(priority = 3, shared = [safety, control, link, reset_requested], local = [watchdog, last_fault])]
+    /// motors on a fault (camera stall, overrun burst) or a hold typed on RTT, and asks for a
+    /// fresh model after a fault.
+    #[task(priority = 3, shared = [safety, control, link, reset_requested], local = [watchdog, last_fault, console])]
     async fn supervisor(mut cx: supervisor::Context) {
         loop {
+            if let Some(on) = typed_hold(cx.local.console) {
+                if cx.shared.safety.lock(|s| s.hold(on)) {
+                    rprintln!(
+                        "{}",
+                        if on {
+                            "held: motors off ('g' lets go)"
+                        } else {
+                            "let go"
+                        }
+                    );
+                }
+            }
             let now = now_ms();
             let d = cx.shared.safety.lock(|s| s.tick(now));
             if d.feed_watchdog {
@@ -342,6 +367,14 @@ mod app {
             }
             Mono::delay(MonoDuration::millis(10)).await;
         }
+    }
+
+    /// The hold typed on the RTT control channel since the last look, if any (a function, so
+    /// that its buffer is not kept across the supervisor's await).
+    fn typed_hold(console: &mut DownChannel) -> Option<bool> {
+        let mut typed = [0u8; 4];
+        let n = console.read(&mut typed);
+        hold_command(typed.get(..n).unwrap_or(&[]))
     }
 
     /// UART4 TXE: the next queued byte to the bottom board.

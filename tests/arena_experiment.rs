@@ -184,6 +184,9 @@ fn trace_follows_every_robot_frame_by_frame() {
     let c = ArenaConfig {
         minutes: 0.1,
         trace: true,
+        // the paper's FSM, whose γ paths exercise the short-takeoff counts below (the
+        // default's escape saccade starts few)
+        fsm: alvs_tasks::model::fsm::FsmParams::PAPER,
         ..short_config()
     };
     let report = run(&c, 2, &|_| {}).unwrap();
@@ -355,11 +358,12 @@ fn start_poses_keep_their_distances() {
 fn json_has_the_documented_keys() {
     let v = short_run().json();
     let top: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(top.len(), 4, "{top:?}");
-    for key in ["alvs", "lgmd2", "trials", "model"] {
+    assert_eq!(top.len(), 5, "{top:?}");
+    for key in ["alvs", "lgmd2", "trials", "model", "fsm"] {
         assert!(top.contains(&key), "{top:?}");
     }
     assert_eq!(v["model"], "alvs", "the default perception preset");
+    assert_eq!(v["fsm"], "alvs", "the default motion preset");
     for c in ["alvs", "lgmd2"] {
         let s = &v[c];
         for key in [
@@ -421,6 +425,41 @@ fn tmp(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+#[test]
+fn cli_model_paper_runs_the_papers_perception_and_motion() {
+    let d = tmp("paper");
+    let run = |extra: &[&str]| {
+        let json = d.join("arena.json");
+        let out = alvs()
+            .args(["arena", "--minutes", "0.02", "--controller", "alvs"])
+            .args(["--background", "plain:128", "--model", "paper", "--json"])
+            .arg(&json)
+            .arg("--png")
+            .arg(d.join("png"))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        (v["model"].clone(), v["fsm"].clone())
+    };
+    assert_eq!(run(&[]), ("paper".into(), "paper".into()));
+    assert_eq!(
+        run(&["--fsm", "escape_saccade=1"]),
+        ("paper".into(), "alvs".into()),
+        "the default's FSM is the paper's with the escape saccade"
+    );
+    assert_eq!(
+        run(&["--fsm", "settle_frames=2"]),
+        ("paper".into(), "custom".into())
+    );
+    let _ = std::fs::remove_dir_all(&d);
 }
 
 #[test]

@@ -46,7 +46,12 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     let json = r.json();
     assert_eq!(json["alvs"]["angles"], 9);
     assert_eq!(json["alvs"]["correct_side"], 9);
-    assert!(json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 9));
+    // the escape saccade keeps the escape from turning back into the obstacle: 2 of 9 collide
+    // (the default before it: 6, the paper's model: 9; docs/experiments.md)
+    assert!(
+        json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 3),
+        "{table}"
+    );
 }
 
 /// With the camera's exposure blur (`--exposure`, an OV7670 exposing for most of the frame

@@ -49,12 +49,14 @@ pub(crate) fn tol() -> f32 {
 
 // ---- getting an FSM into each state (heading frozen unless said otherwise) ----
 
-/// The transition logic itself, without saccadic suppression (tested on its own below): these
-/// tests freeze or script the heading, so a commanded turn never happens.
+/// The transition logic itself, the paper's (`FsmParams::PAPER`: a γ path from every state;
+/// the default's escape saccade has its own tests, `saccade.rs`), without saccadic
+/// suppression (tested on its own below): these tests freeze or script the heading, so a
+/// commanded turn never happens.
 pub(crate) fn params() -> FsmParams {
     FsmParams {
         saccade_yaw_deg_s: f32::INFINITY,
-        ..FsmParams::default()
+        ..FsmParams::PAPER
     }
 }
 

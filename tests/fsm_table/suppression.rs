@@ -4,8 +4,9 @@ use super::*;
 
 #[test]
 fn perception_is_ignored_while_the_robot_turns_fast() {
-    // default parameters: suppression above 45 °/s of commanded yaw
-    let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+    // suppression above 45 °/s of commanded yaw; the paper's FSM, whose short mode during the
+    // escape that follows is a γ path (the default's saccade: saccade.rs)
+    let mut f = Fsm::new(FsmParams::PAPER, Behaviour::Escape);
     f.step(&quiet(), 0.0);
     // a threat on the right: long takeoff, turning left at the rate limit
     let c = f.step(&long(RIGHT_X), 0.0);
@@ -34,7 +35,7 @@ fn perception_is_ignored_while_the_robot_turns_fast() {
 fn the_settle_period_extends_the_suppression_after_a_fast_turn() {
     let p = FsmParams {
         settle_frames: 3,
-        ..FsmParams::default()
+        ..FsmParams::PAPER
     };
     let mut f = Fsm::new(p, Behaviour::Escape);
     f.step(&quiet(), 0.0);

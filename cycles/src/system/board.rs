@@ -243,6 +243,12 @@ impl Board {
         self.uc.get_data().rtt.text(i)
     }
 
+    /// Types `bytes` into RTT down channel 0, as a probe's terminal does; the firmware reads
+    /// them as it polls.
+    pub fn rtt_type(&mut self, bytes: &[u8]) {
+        self.uc.get_data_mut().rtt.type_in(bytes);
+    }
+
     /// RTT up channels' names, as the firmware declared them.
     pub fn rtt_names(&self) -> Vec<String> {
         self.uc
@@ -812,7 +818,10 @@ impl rtt::Memory for UcMemory<'_, '_> {
         self.0.mem_read_as_vec(addr.into(), len).ok()
     }
     fn write_u32(&mut self, addr: u32, value: u32) -> bool {
-        self.0.mem_write(addr.into(), &value.to_le_bytes()).is_ok()
+        self.write(addr, &value.to_le_bytes())
+    }
+    fn write(&mut self, addr: u32, bytes: &[u8]) -> bool {
+        self.0.mem_write(addr.into(), bytes).is_ok()
     }
 }
 

@@ -2,7 +2,9 @@
 //! on the virtual board. Each arena frame becomes the camera's next frame; the board runs one
 //! frame period; the motor frames that left UART4 meanwhile, decoded by the bottom board's
 //! register model (`tasks::robot::motor::BoardModel`), set the wheel speeds. The board runs on
-//! its own thread (the emulator is not `Send`); the controller talks to it over channels.
+//! its own thread (the emulator is not `Send`); the controller talks to it over channels. A
+//! robot held by the experiment ([`Controller::command_not_applied`]) is held on the board too:
+//! `h` typed on the firmware's RTT control channel, `g` when it is let go.
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
@@ -26,12 +28,20 @@ struct Step {
     threat_x: Option<f32>,
 }
 
+/// A camera frame for the board, and a hold to type first (`Some(true)`: `h`, `Some(false)`:
+/// `g`).
+type Input = (Frame, Option<bool>);
+
 /// A robot driven by the firmware on a virtual board.
 pub struct FirmwareRobot {
-    frames: Sender<Frame>,
+    frames: Sender<Input>,
     steps: Receiver<Step>,
     last: Step,
     error: Arc<Mutex<Option<String>>>,
+    /// The experiment held the robot over the last frame.
+    held: bool,
+    /// What the board was last told (held or not).
+    told_held: bool,
 }
 
 /// Cycles the board runs before the first arena frame: boot, self-benchmark, camera set-up.
@@ -41,7 +51,7 @@ impl FirmwareRobot {
     /// Returns the controller of the firmware `elf`, with a handle on the board's error, if it
     /// fails. The board boots at the first frame (for [`BOOT_CYCLES`], looking at that frame).
     pub fn new(elf: Vec<u8>, config: Config) -> (FirmwareRobot, Arc<Mutex<Option<String>>>) {
-        let (frames_tx, frames_rx) = channel::<Frame>();
+        let (frames_tx, frames_rx) = channel::<Input>();
         let (steps_tx, steps_rx) = channel::<Step>();
         let error = Arc::new(Mutex::new(None));
         let fail = Arc::clone(&error);
@@ -61,6 +71,8 @@ impl FirmwareRobot {
                 threat_x: None,
             },
             error: Arc::clone(&error),
+            held: false,
+            told_held: false,
         };
         (robot, error)
     }
@@ -69,13 +81,13 @@ impl FirmwareRobot {
 fn serve(
     elf: &[u8],
     config: Config,
-    frames: &Receiver<Frame>,
+    frames: &Receiver<Input>,
     steps: &Sender<Step>,
 ) -> Result<(), String> {
     let period = config.camera.frame_cycles;
     // the robot boots looking at its first view, as a real one does (a grey card taken away
     // at the first frame would be a whole-scene onset the trial is not about)
-    let Ok(first) = frames.recv() else {
+    let Ok((first, first_hold)) = frames.recv() else {
         return Ok(());
     };
     let slot = Arc::new(Mutex::new(first.to_vec()));
@@ -88,7 +100,10 @@ fn serve(
     // the bottom board hears everything from power-on (the enable sequence comes at priming)
     let (mut bytes_seen, mut text_seen) = (0, board.rtt(1).len());
     let mut seen = (State::Wander, 0, None);
-    for frame in core::iter::once(first).chain(frames.iter()) {
+    for (frame, hold) in core::iter::once((first, first_hold)).chain(frames.iter()) {
+        if let Some(on) = hold {
+            board.rtt_type(if on { b"h" } else { b"g" });
+        }
         if let Ok(mut s) = slot.lock() {
             s.copy_from_slice(&frame);
         }
@@ -129,9 +144,16 @@ impl Controller for FirmwareRobot {
         "firmware"
     }
 
+    fn command_not_applied(&mut self) {
+        self.held = true;
+    }
+
     fn step(&mut self, frame: &Frame, _heading_deg: f32) -> Command {
         let failed = self.error.lock().map_or(true, |e| e.is_some());
-        if !failed && self.frames.send(*frame).is_ok() {
+        let hold = (self.held != self.told_held).then_some(self.held);
+        self.told_held = self.held;
+        self.held = false;
+        if !failed && self.frames.send((*frame, hold)).is_ok() {
             if let Ok(step) = self.steps.recv() {
                 self.last = step;
             }

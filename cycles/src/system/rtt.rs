@@ -1,12 +1,14 @@
 //! The host side of RTT, as a debug probe does it: find the SEGGER control block
 //! (`_SEGGER_RTT`: the id "SEGGER RTT", the channel counts, then 24-byte channel descriptors
 //! name, buffer, size, write, read, flags) and move each up channel's new bytes out by
-//! advancing its read offset.
+//! advancing its read offset; bytes typed for down channel 0 go in by advancing its write
+//! offset, as far as the target has read.
 
 /// Memory access the reader needs.
 pub trait Memory {
     fn read(&self, addr: u32, len: usize) -> Option<Vec<u8>>;
     fn write_u32(&mut self, addr: u32, value: u32) -> bool;
+    fn write(&mut self, addr: u32, bytes: &[u8]) -> bool;
 
     fn read_u32(&self, addr: u32) -> Option<u32> {
         let b = self.read(addr, 4)?;
@@ -30,6 +32,8 @@ pub struct Channel {
 pub struct Rtt {
     pub block: u32,
     pub channels: Vec<Channel>,
+    /// Bytes typed for down channel 0, not yet in the target's buffer.
+    pub typed: std::collections::VecDeque<u8>,
 }
 
 impl Rtt {
@@ -37,7 +41,44 @@ impl Rtt {
         Rtt {
             block,
             channels: Vec::new(),
+            typed: std::collections::VecDeque::new(),
         }
+    }
+
+    /// Types `bytes` into down channel 0 (they reach the target on the next polls, as its
+    /// buffer frees up).
+    pub fn type_in(&mut self, bytes: &[u8]) {
+        self.typed.extend(bytes);
+    }
+
+    /// Moves typed bytes into down channel 0's ring, as much as it has room for (a ring of
+    /// `size` holds `size − 1`).
+    fn deliver(&mut self, mem: &mut impl Memory) {
+        if self.typed.is_empty() {
+            return;
+        }
+        let ups = mem.read_u32(self.block + 16).unwrap_or(0).min(16);
+        let downs = mem.read_u32(self.block + 20).unwrap_or(0).min(16);
+        if downs == 0 {
+            return;
+        }
+        let at = self.block + HEADER + ups * CHANNEL;
+        let Some(d) = mem.read(at, 24) else { return };
+        let w = |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
+        let (buffer, size, mut write, read) = (w(1), w(2), w(3), w(4));
+        if buffer == 0 || size < 2 || write >= size || read >= size {
+            return;
+        }
+        while (write + 1) % size != read {
+            let Some(b) = self.typed.pop_front() else {
+                break;
+            };
+            if !mem.write(buffer + write, &[b]) {
+                return;
+            }
+            write = (write + 1) % size;
+        }
+        mem.write_u32(at + 12, write);
     }
 
     /// Moves every up channel's new bytes into its text; nothing while the block is not
@@ -49,6 +90,7 @@ impl Rtt {
         if id != ID {
             return;
         }
+        self.deliver(mem);
         let ups = mem.read_u32(self.block + 16).unwrap_or(0).min(16);
         for i in 0..ups {
             let at = self.block + HEADER + i * CHANNEL;
@@ -107,9 +149,40 @@ mod tests {
                 .map(<[u8]>::to_vec)
         }
         fn write_u32(&mut self, addr: u32, value: u32) -> bool {
-            self.0[addr as usize..addr as usize + 4].copy_from_slice(&value.to_le_bytes());
+            self.write(addr, &value.to_le_bytes())
+        }
+        fn write(&mut self, addr: u32, bytes: &[u8]) -> bool {
+            self.0[addr as usize..addr as usize + bytes.len()].copy_from_slice(bytes);
             true
         }
+    }
+
+    #[test]
+    fn typed_bytes_fill_the_down_ring_as_the_target_reads() {
+        let mut ram = Ram(vec![0; 512]);
+        ram.0[..10].copy_from_slice(ID);
+        ram.write_u32(16, 1); // one up channel, then one down channel
+        ram.write_u32(20, 1);
+        let down = 24 + 24;
+        for (k, v) in [0u32, 400, 4, 0, 0].iter().enumerate() {
+            ram.write_u32(down + 4 * k as u32, *v);
+        }
+        let mut rtt = Rtt::new(0);
+        rtt.type_in(b"hgxy");
+        rtt.poll(&mut ram);
+        assert_eq!(&ram.0[400..403], b"hgx", "a ring of 4 holds 3");
+        assert_eq!(ram.read_u32(down + 12), Some(3));
+        rtt.poll(&mut ram);
+        assert_eq!(
+            ram.read_u32(down + 12),
+            Some(3),
+            "full until the target reads"
+        );
+        ram.write_u32(down + 16, 2); // the target read "hg"
+        rtt.poll(&mut ram);
+        assert_eq!(ram.0[403], b'y');
+        assert_eq!(ram.read_u32(down + 12), Some(0), "wrapped");
+        assert!(rtt.typed.is_empty());
     }
 
     #[test]

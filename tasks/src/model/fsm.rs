@@ -162,8 +162,8 @@ pub struct FsmParams {
     /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
     /// the outdoor photographs, so it stays opt-in. Values above 2 act as 2.
     pub live_strength: u32,
-    /// Short mode during an Escape: 0, the default, starts the paper's γ path (a new takeoff,
-    /// reversing first); 1 starts a saccade instead, a long takeoff to `θ¹_short` (90° away
+    /// Short mode during an Escape: 0 starts the paper's γ path (a new takeoff, reversing
+    /// first; [`FsmParams::PAPER`]); 1, the default, starts a saccade instead, a long takeoff to `θ¹_short` (90° away
     /// from the threat's side; in place unless `takeoff_drive` > 0), then the escape goes on at
     /// the new heading. Short mode during the saccade starts a new saccade. A fly that has
     /// taken off answers looming ahead with a collision-avoidance saccade away from the
@@ -213,8 +213,22 @@ impl FsmParams {
 
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
     /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
-    /// mechanisms").
-    pub const ALVS: FsmParams = FsmParams { ..FsmParams::PAPER };
+    /// mechanisms"): the escape saccade.
+    pub const ALVS: FsmParams = FsmParams {
+        escape_saccade: 1,
+        ..FsmParams::PAPER
+    };
+
+    /// The preset these parameters are, `"alvs"` or `"paper"`, or `"custom"`.
+    pub fn preset_name(&self) -> &'static str {
+        if *self == FsmParams::ALVS {
+            "alvs"
+        } else if *self == FsmParams::PAPER {
+            "paper"
+        } else {
+            "custom"
+        }
+    }
 
     /// Names accepted by [`FsmParams::set`], in declaration order.
     pub const NAMES: [&'static str; 23] = [

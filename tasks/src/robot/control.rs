@@ -45,16 +45,16 @@ impl<H: HeadingEstimator> Control<H> {
 
     /// One frame: the FSM's transition on `vm` and its wheel speeds, and the frames to send.
     /// With `enable` false (priming, a fault) the frames stop the motors and the heading
-    /// estimate sees still wheels; the FSM still runs, so it is current when motion resumes.
-    /// (Its efference copies still read the commands: telling it with
-    /// `Fsm::command_not_applied` costs 56 B of running stack, and only matters with the
-    /// opt-in blocked way; docs/experiments.md.)
+    /// estimate sees still wheels; the FSM still runs, so it is current when motion resumes,
+    /// and is told its command was not carried out (`Fsm::command_not_applied`): a robot
+    /// whose motors are off has not driven into anything.
     pub fn step(&mut self, vm: &Visuomotor, enable: bool) -> (MotorCommand, MotorFrames) {
         let c = self.fsm.step(vm, self.heading.heading_deg());
         let frames = self.motors.update(enable, c.left_mm_s, c.right_mm_s);
         let (l, r) = if enable {
             (c.left_mm_s, c.right_mm_s)
         } else {
+            self.fsm.command_not_applied();
             (0.0, 0.0)
         };
         let before = self.heading.heading_deg();

@@ -27,6 +27,10 @@
 //! - [`OVERRUN_BURST`] overruns within [`OVERRUN_WINDOW_MS`] → [`Fault::OverrunBurst`], motors
 //!   stopped, until a whole window passes without overrun.
 //! - The panic flag → [`Fault::Panic`], motors stopped and the watchdog starved, for good.
+//! - A hold ([`Safety::hold`]: `h` typed on RTT down channel 0, "control"; `g` releases it,
+//!   [`hold_command`]) stops the motors without a fault: perception and the FSM run on, and
+//!   the FSM is told its commands are not carried out. The evasion protocol's "stand until
+//!   the first alert", and a stop switch for whoever holds the robot.
 
 use crate::robot::camera::Counters;
 use core::fmt::{self, Write};
@@ -304,6 +308,20 @@ pub struct Safety {
     overruns: usize,
     burst: bool,
     panicked: bool,
+    held: bool,
+}
+
+/// The hold the bytes typed on the RTT control channel ask for: the last `h` (hold) or `g`
+/// (go) in them, either case; `None` when they name neither.
+pub fn hold_command(bytes: &[u8]) -> Option<bool> {
+    bytes
+        .iter()
+        .rev()
+        .find_map(|b| match b.to_ascii_lowercase() {
+            b'h' => Some(true),
+            b'g' => Some(false),
+            _ => None,
+        })
 }
 
 impl Safety {
@@ -319,7 +337,21 @@ impl Safety {
             overruns: 0,
             burst: false,
             panicked: false,
+            held: false,
         }
+    }
+
+    /// Holds the motors stopped (`true`) or lets them follow the FSM again; whether that
+    /// changed anything.
+    pub fn hold(&mut self, on: bool) -> bool {
+        let changed = self.held != on;
+        self.held = on;
+        changed
+    }
+
+    /// Whether the motors may follow the FSM: primed, no fault, not held.
+    pub fn motors_allowed(&self) -> bool {
+        self.fault().is_none() && self.primed() && !self.held
     }
 
     /// Perception finished a frame at `now_ms`.
@@ -378,15 +410,14 @@ impl Safety {
                 self.overruns = 0;
             }
         }
-        let fault = self.fault();
         let feed = self.progress && !self.panicked;
         if feed {
             self.progress = false;
         }
         Decision {
             feed_watchdog: feed,
-            motors_enabled: fault.is_none() && self.primed(),
-            fault,
+            motors_enabled: self.motors_allowed(),
+            fault: self.fault(),
         }
     }
 
@@ -683,5 +714,41 @@ mod tests {
         s.overrun(t + 402);
         assert_eq!(s.tick(t + 1000).fault, Some(Fault::Panic));
         assert_eq!(Fault::Panic.name(), "panic");
+    }
+
+    #[test]
+    fn a_hold_stops_the_motors_without_a_fault_until_released() {
+        let (mut s, t) = primed(T0);
+        assert!(s.motors_allowed());
+        assert!(s.hold(true), "a change");
+        assert!(!s.hold(true), "no change");
+        let d = run(&mut s, t + 33, t + 500);
+        assert_eq!(
+            d,
+            Decision {
+                feed_watchdog: true,
+                motors_enabled: false,
+                fault: None
+            },
+            "frames go on, the watchdog is fed, no fault"
+        );
+        assert!(!s.motors_allowed());
+        assert!(s.hold(false));
+        assert!(s.tick(t + 500).motors_enabled, "primed all along");
+        // a hold does not outlive a fault's priming, nor lift one
+        s.hold(true);
+        s.panic();
+        s.hold(false);
+        assert!(!s.motors_allowed());
+    }
+
+    #[test]
+    fn the_control_channel_reads_the_last_h_or_g() {
+        assert_eq!(hold_command(b"h"), Some(true));
+        assert_eq!(hold_command(b"G\n"), Some(false));
+        assert_eq!(hold_command(b"hxg\r\n"), Some(false));
+        assert_eq!(hold_command(b"g h"), Some(true));
+        assert_eq!(hold_command(b"stop\n"), None, "no h or g");
+        assert_eq!(hold_command(b""), None);
     }
 }

@@ -66,6 +66,8 @@ impl ArenaReport {
         );
         // the ALVS perception preset: "alvs", "paper" or "custom" (--param)
         map.insert("model".into(), self.config.params.preset_name().into());
+        // the motion (FSM) preset: "alvs", "paper" or "custom" (--fsm)
+        map.insert("fsm".into(), self.config.fsm.preset_name().into());
         serde_json::Value::Object(map)
     }
 
@@ -78,12 +80,13 @@ impl ArenaReport {
         let frames = self.trials.first().map_or(0, |t| t.frames);
         let _ = writeln!(
             out,
-            "arena: {} robots, {} min per trial ({} camera frames per robot), seed {}, ALVS model {}, {} trials on {} threads, {:.1} s",
+            "arena: {} robots, {} min per trial ({} camera frames per robot), seed {}, ALVS model {}, FSM {}, {} trials on {} threads, {:.1} s",
             c.robots,
             c.minutes,
             frames,
             c.seed,
             c.params.preset_name(),
+            c.fsm.preset_name(),
             self.trials.len(),
             self.jobs,
             self.wall_clock_s
