@@ -211,6 +211,45 @@ fn a_camera_stall_stops_the_motors_and_frames_bring_them_back() {
     );
 }
 
+/// The bottom board's state after every byte UART4 sent so far.
+fn wheels_after(b: &Board) -> BoardModel {
+    let mut wheels = BoardModel::new();
+    let mut frame = Vec::new();
+    for &(_, byte) in b.uart_sent() {
+        frame.push(byte);
+        if byte == motor::END {
+            // a malformed frame changes nothing, as on the bottom board
+            let _ = wheels.apply(&frame);
+            frame.clear();
+        }
+    }
+    wheels
+}
+
+#[test]
+fn a_hold_typed_on_rtt_stops_the_motors_and_g_lets_them_go() {
+    let Some(elf) = firmware() else { return };
+    let mut b = board(&elf, quiet_frames(), Config::default());
+    b.run_for(700 * MS).expect("runs");
+    assert!(wheels_after(&b).enabled(), "primed and wandering");
+    b.rtt_type(b"h\n");
+    b.run_for(100 * MS).expect("runs");
+    assert!(
+        b.rtt(0).contains("held: motors off ('g' lets go)"),
+        "{}",
+        b.rtt(0)
+    );
+    assert!(!wheels_after(&b).enabled(), "the stop frames went out");
+    assert!(b.rtt(1).lines().last().is_some_and(|l| l.contains("st=")));
+    b.run_for(300 * MS).expect("runs");
+    assert!(!wheels_after(&b).enabled(), "still held");
+    b.rtt_type(b"g\n");
+    b.run_for(100 * MS).expect("runs");
+    assert!(b.rtt(0).contains("let go"), "{}", b.rtt(0));
+    assert!(wheels_after(&b).enabled(), "driving again, no re-priming");
+    assert!(b.log().resets.is_empty());
+}
+
 #[test]
 fn a_fault_stops_the_motors_then_the_watchdog_resets() {
     let Some(elf) = firmware() else { return };

@@ -360,7 +360,7 @@ struct ModelArgs {
     mode: Mode,
 }
 
-/// A parameter preset of the perception model (`Params::preset`).
+/// A preset of the model: its perception (`Params::preset`) and its motion (`FsmParams`).
 #[derive(Clone, Copy, ValueEnum)]
 enum Model {
     /// The paper's model plus the closed-loop mechanisms (`Params::ALVS`, `FsmParams::ALVS`),

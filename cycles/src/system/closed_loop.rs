@@ -4,7 +4,10 @@
 //! register model (`tasks::robot::motor::BoardModel`), set the wheel speeds. The board runs on
 //! its own thread (the emulator is not `Send`); the controller talks to it over channels. A
 //! robot held by the experiment ([`Controller::command_not_applied`]) is held on the board too:
-//! `h` typed on the firmware's RTT control channel, `g` when it is let go.
+//! `h` typed on the firmware's RTT control channel, `g` when it is let go. The experiment
+//! decides about a frame after the board ran it, so each is typed one frame late: the board is
+//! held from its second frame (it is still priming then, motors off) and let go one frame
+//! after the host's robot would be.
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
@@ -87,7 +90,8 @@ fn serve(
     let period = config.camera.frame_cycles;
     // the robot boots looking at its first view, as a real one does (a grey card taken away
     // at the first frame would be a whole-scene onset the trial is not about)
-    let Ok((first, first_hold)) = frames.recv() else {
+    // the first frame carries no hold: the experiment has not seen the board yet
+    let Ok((first, _)) = frames.recv() else {
         return Ok(());
     };
     let slot = Arc::new(Mutex::new(first.to_vec()));
@@ -100,7 +104,7 @@ fn serve(
     // the bottom board hears everything from power-on (the enable sequence comes at priming)
     let (mut bytes_seen, mut text_seen) = (0, board.rtt(1).len());
     let mut seen = (State::Wander, 0, None);
-    for (frame, hold) in core::iter::once((first, first_hold)).chain(frames.iter()) {
+    for (frame, hold) in core::iter::once((first, None)).chain(frames.iter()) {
         if let Some(on) = hold {
             board.rtt_type(if on { b"h" } else { b"g" });
         }

@@ -57,12 +57,19 @@ impl Rtt {
         if self.typed.is_empty() {
             return;
         }
-        let ups = mem.read_u32(self.block + 16).unwrap_or(0).min(16);
-        let downs = mem.read_u32(self.block + 20).unwrap_or(0).min(16);
+        let ups = mem
+            .read_u32(self.block.wrapping_add(16))
+            .unwrap_or(0)
+            .min(16);
+        let downs = mem
+            .read_u32(self.block.wrapping_add(20))
+            .unwrap_or(0)
+            .min(16);
         if downs == 0 {
             return;
         }
-        let at = self.block + HEADER + ups * CHANNEL;
+        // the values come from target memory: wrapping arithmetic, a bad block reads nothing
+        let at = self.block.wrapping_add(HEADER + ups * CHANNEL);
         let Some(d) = mem.read(at, 24) else { return };
         let w = |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
         let (buffer, size, mut write, read) = (w(1), w(2), w(3), w(4));
@@ -73,12 +80,12 @@ impl Rtt {
             let Some(b) = self.typed.pop_front() else {
                 break;
             };
-            if !mem.write(buffer + write, &[b]) {
+            if !mem.write(buffer.wrapping_add(write), &[b]) {
                 return;
             }
             write = (write + 1) % size;
         }
-        mem.write_u32(at + 12, write);
+        mem.write_u32(at.wrapping_add(12), write);
     }
 
     /// Moves every up channel's new bytes into its text; nothing while the block is not

@@ -163,9 +163,10 @@ pub struct FsmParams {
     /// the outdoor photographs, so it stays opt-in. Values above 2 act as 2.
     pub live_strength: u32,
     /// Short mode during an Escape: 0 starts the paper's γ path (a new takeoff, reversing
-    /// first; [`FsmParams::PAPER`]); 1, the default, starts a saccade instead, a long takeoff to `θ¹_short` (90° away
-    /// from the threat's side; in place unless `takeoff_drive` > 0), then the escape goes on at
-    /// the new heading. Short mode during the saccade starts a new saccade. A fly that has
+    /// first; [`FsmParams::PAPER`]); 1, the default, starts a saccade instead, a long takeoff
+    /// to `θ¹_short` (90° away from the threat's side; in place unless `takeoff_drive` > 0),
+    /// then the escape goes on at the new heading. Short mode during the saccade starts a new
+    /// saccade. A fly that has
     /// taken off answers looming ahead with a collision-avoidance saccade away from the
     /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
     /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
@@ -867,7 +868,15 @@ mod tests {
 
     #[test]
     fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
-        assert_eq!(FsmParams::default(), FsmParams::ALVS);
+        // the default is the paper's plus the escape saccade, nothing else
+        assert_eq!(
+            FsmParams {
+                escape_saccade: 0,
+                ..FsmParams::default()
+            },
+            FsmParams::PAPER
+        );
+        assert_eq!(FsmParams::ALVS.escape_saccade, 1);
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
         // retreat: the paper's FSM (docs/model.md)

@@ -27,10 +27,12 @@
 //! - [`OVERRUN_BURST`] overruns within [`OVERRUN_WINDOW_MS`] → [`Fault::OverrunBurst`], motors
 //!   stopped, until a whole window passes without overrun.
 //! - The panic flag → [`Fault::Panic`], motors stopped and the watchdog starved, for good.
-//! - A hold ([`Safety::hold`]: `h` typed on RTT down channel 0, "control"; `g` releases it,
-//!   [`hold_command`]) stops the motors without a fault: perception and the FSM run on, and
-//!   the FSM is told its commands are not carried out. The evasion protocol's "stand until
-//!   the first alert", and a stop switch for whoever holds the robot.
+//! - A hold ([`Safety::hold`]: `h`, or anything but `g`, typed on RTT down channel 0,
+//!   "control"; `g` alone releases it, [`hold_command`]) stops the motors without a fault:
+//!   perception and the FSM run on, and the FSM is told its commands are not carried out. The
+//!   evasion protocol's "stand until the first alert", and a stop switch for whoever holds the
+//!   robot while a probe is attached. A reset (watchdog, panic) forgets it: the robot drives
+//!   again once primed.
 
 use crate::robot::camera::Counters;
 use core::fmt::{self, Write};
@@ -311,17 +313,17 @@ pub struct Safety {
     held: bool,
 }
 
-/// The hold the bytes typed on the RTT control channel ask for: the last `h` (hold) or `g`
-/// (go) in them, either case; `None` when they name neither.
+/// The hold the bytes typed on the RTT control channel ask for, failing safe: `g` alone
+/// (either case, around whitespace) lets go; anything else typed holds, so a mistyped or
+/// longer word ("stop", "going") stops the motors rather than starting them; nothing typed
+/// (or only whitespace) changes nothing.
 pub fn hold_command(bytes: &[u8]) -> Option<bool> {
-    bytes
-        .iter()
-        .rev()
-        .find_map(|b| match b.to_ascii_lowercase() {
-            b'h' => Some(true),
-            b'g' => Some(false),
-            _ => None,
-        })
+    let typed = bytes.trim_ascii();
+    match typed {
+        [] => None,
+        [b'g' | b'G'] => Some(false),
+        _ => Some(true),
+    }
 }
 
 impl Safety {
@@ -735,7 +737,18 @@ mod tests {
         assert!(!s.motors_allowed());
         assert!(s.hold(false));
         assert!(s.tick(t + 500).motors_enabled, "primed all along");
-        // a hold does not outlive a fault's priming, nor lift one
+        // a hold outlives a camera stall and the priming after it ...
+        s.hold(true);
+        assert_eq!(s.tick(t + 600).fault, Some(Fault::CameraStall));
+        let d = run(&mut s, t + 650, t + 800);
+        assert_eq!(
+            (d.motors_enabled, d.fault),
+            (false, None),
+            "re-primed, still held"
+        );
+        s.hold(false);
+        assert!(s.tick(t + 800).motors_enabled);
+        // ... and letting go does not lift a fault
         s.hold(true);
         s.panic();
         s.hold(false);
@@ -743,12 +756,16 @@ mod tests {
     }
 
     #[test]
-    fn the_control_channel_reads_the_last_h_or_g() {
+    fn the_control_channel_lets_go_only_on_g_alone() {
         assert_eq!(hold_command(b"h"), Some(true));
+        assert_eq!(hold_command(b"H\r\n"), Some(true));
         assert_eq!(hold_command(b"G\n"), Some(false));
-        assert_eq!(hold_command(b"hxg\r\n"), Some(false));
-        assert_eq!(hold_command(b"g h"), Some(true));
-        assert_eq!(hold_command(b"stop\n"), None, "no h or g");
+        assert_eq!(hold_command(b" g "), Some(false));
+        // anything else holds: fail safe
+        for typed in [&b"stop\n"[..], b"go", b"gg", b"hxg", b"\x00"] {
+            assert_eq!(hold_command(typed), Some(true), "{typed:?}");
+        }
         assert_eq!(hold_command(b""), None);
+        assert_eq!(hold_command(b" \r\n"), None);
     }
 }
