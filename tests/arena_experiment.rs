@@ -451,9 +451,9 @@ fn cli_model_paper_runs_the_papers_perception_and_motion() {
     };
     assert_eq!(run(&[]), ("paper".into(), "paper".into()));
     assert_eq!(
-        run(&["--fsm", "escape_saccade=1"]),
+        run(&["--fsm", "escape_saccade=1", "--fsm", "takeoff_drive=0.5"]),
         ("paper".into(), "alvs".into()),
-        "the default's FSM is the paper's with the escape saccade"
+        "the default's FSM is the paper's with the escape saccade and the moving takeoff"
     );
     assert_eq!(
         run(&["--fsm", "settle_frames=2"]),

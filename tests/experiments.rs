@@ -46,10 +46,11 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     let json = r.json();
     assert_eq!(json["alvs"]["angles"], 9);
     assert_eq!(json["alvs"]["correct_side"], 9);
-    // the escape saccade keeps the escape from turning back into the obstacle: 2 of 9 collide
-    // (the default before it: 6, the paper's model: 9; docs/experiments.md)
+    // the takeoff backs out of the obstacle's path while it turns, and the escape saccade
+    // keeps the escape from turning back into it: 1 of 9 collides (without the moving takeoff
+    // 2, without the saccade 6, the paper's model 9; docs/experiments.md), the goal
     assert!(
-        json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 3),
+        json["alvs"]["collisions"].as_u64().is_some_and(|c| c <= 1),
         "{table}"
     );
 }
@@ -111,7 +112,8 @@ fn on_plain_walls_alvs_collides_less_than_lgmd2() {
     let (alvs, lgmd2) = (&r.controllers[0], &r.controllers[1]);
     let table = r.table();
     assert_eq!(alvs.correct_side, 9, "{table}");
-    assert!(alvs.collisions <= 4, "{table}");
+    // the goal, ≤ 1 of 9 (measured 0; 1 without the moving takeoff)
+    assert!(alvs.collisions <= 1, "{table}");
     assert!(lgmd2.collisions >= alvs.collisions + 3, "{table}");
 }
 

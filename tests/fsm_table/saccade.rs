@@ -79,3 +79,25 @@ fn short_mode_outside_an_escape_is_still_the_gamma_path() {
     let c = f.step(&short(RIGHT_X), sp);
     assert_eq!(c.short_phase, Some(ShortPhase::Retreat));
 }
+
+#[test]
+fn a_saccade_turns_in_place_while_a_takeoff_drives() {
+    let p = FsmParams {
+        takeoff_drive: 1.0,
+        ..with_saccade()
+    };
+    // the takeoff from Wander, its set-point behind: it backs away while it turns
+    let mut f = Fsm::new(p, Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    let c = f.step(&long(RIGHT_X), 0.0);
+    assert_eq!(c.state, State::LongTakeoff);
+    assert!(c.left_mm_s + c.right_mm_s < 0.0, "{c:?}");
+    // the saccade of an escape: in place, whatever takeoff_drive says
+    let mut f = Fsm::new(p, Behaviour::Escape);
+    f.step(&quiet(), 0.0);
+    let sp = f.step(&long(RIGHT_X), 0.0).heading_setpoint_deg;
+    assert_eq!(f.step(&quiet(), sp).state, State::Escape);
+    let c = f.step(&short(RIGHT_X), sp);
+    assert_eq!(c.state, State::LongTakeoff);
+    assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3, "{c:?}");
+}
