@@ -19,6 +19,32 @@ pub trait Memory {
 const ID: &[u8] = b"SEGGER RTT";
 const HEADER: u32 = 24;
 const CHANNEL: u32 = 24;
+/// Offsets in a channel descriptor of the write and read offsets.
+const WRITE_OFFSET: u32 = 12;
+const READ_OFFSET: u32 = 16;
+
+/// A channel descriptor's words (the flags are not needed).
+struct Descriptor {
+    name: u32,
+    buffer: u32,
+    size: u32,
+    write: u32,
+    read: u32,
+}
+
+impl Descriptor {
+    fn read(mem: &impl Memory, at: u32) -> Option<Descriptor> {
+        let d = mem.read(at, CHANNEL as usize)?;
+        let w = |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
+        Some(Descriptor {
+            name: w(0),
+            buffer: w(1),
+            size: w(2),
+            write: w(3),
+            read: w(4),
+        })
+    }
+}
 
 /// One up channel's text so far.
 #[derive(Clone, Debug, Default)]
@@ -57,10 +83,6 @@ impl Rtt {
         if self.typed.is_empty() {
             return;
         }
-        let ups = mem
-            .read_u32(self.block.wrapping_add(16))
-            .unwrap_or(0)
-            .min(16);
         let downs = mem
             .read_u32(self.block.wrapping_add(20))
             .unwrap_or(0)
@@ -68,11 +90,12 @@ impl Rtt {
         if downs == 0 {
             return;
         }
-        // the values come from target memory: wrapping arithmetic, a bad block reads nothing
-        let at = self.block.wrapping_add(HEADER + ups * CHANNEL);
-        let Some(d) = mem.read(at, 24) else { return };
-        let w = |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
-        let (buffer, size, mut write, read) = (w(1), w(2), w(3), w(4));
+        // down descriptors follow all `MaxNumUpBuffers` up descriptors
+        let at = self.block.wrapping_add(HEADER + self.max_up(mem) * CHANNEL);
+        let Some(d) = Descriptor::read(mem, at) else {
+            return;
+        };
+        let (buffer, size, mut write, read) = (d.buffer, d.size, d.write, d.read);
         if buffer == 0 || size < 2 || write >= size || read >= size {
             return;
         }
@@ -85,7 +108,14 @@ impl Rtt {
             }
             write = (write + 1) % size;
         }
-        mem.write_u32(at.wrapping_add(12), write);
+        mem.write_u32(at.wrapping_add(WRITE_OFFSET), write);
+    }
+
+    /// `MaxNumUpBuffers` of the control block (at most 16).
+    fn max_up(&self, mem: &impl Memory) -> u32 {
+        mem.read_u32(self.block.wrapping_add(16))
+            .unwrap_or(0)
+            .min(16)
     }
 
     /// Moves every up channel's new bytes into its text; nothing while the block is not
@@ -98,13 +128,12 @@ impl Rtt {
             return;
         }
         self.deliver(mem);
-        let ups = mem.read_u32(self.block + 16).unwrap_or(0).min(16);
-        for i in 0..ups {
+        for i in 0..self.max_up(mem) {
             let at = self.block + HEADER + i * CHANNEL;
-            let Some(d) = mem.read(at, 24) else { return };
-            let w =
-                |k: usize| u32::from_le_bytes([d[4 * k], d[4 * k + 1], d[4 * k + 2], d[4 * k + 3]]);
-            let (name, buffer, size, write, read) = (w(0), w(1), w(2), w(3), w(4));
+            let Some(d) = Descriptor::read(mem, at) else {
+                return;
+            };
+            let (name, buffer, size, write, read) = (d.name, d.buffer, d.size, d.write, d.read);
             if self.channels.len() <= i as usize {
                 self.channels.push(Channel {
                     name: c_string(mem, name),
@@ -127,7 +156,7 @@ impl Rtt {
                 self.channels[i as usize]
                     .text
                     .push_str(&String::from_utf8_lossy(&b));
-                mem.write_u32(at + 16, write);
+                mem.write_u32(at + READ_OFFSET, write);
             }
         }
     }

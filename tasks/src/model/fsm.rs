@@ -167,8 +167,7 @@ pub struct FsmParams {
     /// Short mode during an Escape: 0 starts the paper's γ path (a new takeoff, reversing
     /// first; [`FsmParams::PAPER`]); 1, the default, starts a saccade instead, a long takeoff
     /// to `θ¹_short` (90° away from the threat's side, in place), then the escape goes on at
-    /// the new heading. Short mode during the saccade starts a new
-    /// saccade. A fly that has
+    /// the new heading. Short mode during the saccade starts a new saccade. A fly that has
     /// taken off answers looming ahead with a collision-avoidance saccade away from the
     /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
     /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
