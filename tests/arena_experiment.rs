@@ -12,6 +12,7 @@ use alvs_host::experiments::arena::{
     run, start_poses, trace_header, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
     START_WALL_CLEARANCE_MM,
 };
+use alvs_host::experiments::Report;
 use serde_json::Value;
 
 /// 0.5 simulated minutes: 900 camera frames per robot.

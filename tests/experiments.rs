@@ -11,6 +11,7 @@ use alvs_host::experiments::evasion::{self, EvasionConfig};
 use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
+use alvs_host::experiments::Report;
 use alvs_tasks::model::fsm::FsmParams;
 
 fn alvs_only() -> Vec<Kind> {
@@ -265,7 +266,12 @@ fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(v["alvs"]["angles"], 9);
     assert!(dir.join("evasion.png").exists());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("correct side"));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("correct side"), "{stdout}");
+    assert!(
+        stdout.contains(&format!("trace in {}", trace.display())),
+        "{stdout}"
+    );
     // the trace: a header, then every frame of the 9 trials; the tested robot stands until its
     // first alert and the obstacle closes in at 100 mm/s
     let csv = std::fs::read_to_string(&trace).unwrap();
@@ -322,6 +328,34 @@ fn cli_helps_and_fails_cleanly() {
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
         assert!(err.starts_with("alvs: error:"), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn an_unwritable_output_fails_before_the_run() {
+    let dir = std::env::temp_dir().join(format!("alvs-unwritable-{}", std::process::id()));
+    for (args, picture) in [
+        (["evasion", "--trace"], "evasion.png"),
+        (["two-threats", "--json"], "two_threats.png"),
+        (["stimuli", "--json"], "approach_tracks.png"),
+    ] {
+        let out = alvs()
+            .args(args)
+            .arg("/nonexistent/dir/out")
+            .arg("--png")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.contains("cannot write /nonexistent/dir/out"),
+            "{args:?}: {err}"
+        );
+        // nothing ran: no picture was drawn
+        assert!(!dir.join(picture).exists(), "{args:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Experiment 4 on two simulated minutes (the issue's "a 2-minute arena's counts are

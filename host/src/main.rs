@@ -2,12 +2,12 @@
 //! Run through the cargo alias: `cargo alvs <subcommand> --help`.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
-use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats};
+use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::{Params, HEIGHT, WIDTH};
@@ -164,13 +164,12 @@ impl CommonArgs {
         jobs(self.jobs)
     }
 
-    fn write_json(&self, value: &serde_json::Value) -> Result<()> {
-        if let Some(path) = &self.json {
-            let text = serde_json::to_string(value)?;
-            std::fs::write(path, text + "\n")
-                .with_context(|| format!("cannot write {}", path.display()))?;
+    fn outputs<'a>(&'a self, png: &'a Path, trace: Option<&'a Path>) -> Outputs<'a> {
+        Outputs {
+            png,
+            json: self.json.as_deref(),
+            trace,
         }
-        Ok(())
     }
 }
 
@@ -653,20 +652,45 @@ fn kinds(args: &[ControllerArg], default: &[Kind]) -> Vec<Kind> {
     }
 }
 
-/// Prints the table, the pictures' directory and the JSON path.
-fn report(
-    table: &str,
-    pictures: &[PathBuf],
-    dir: &std::path::Path,
-    json: &Option<PathBuf>,
-) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    write!(out, "{table}")?;
-    writeln!(out, "{} pictures in {}", pictures.len(), dir.display())?;
-    if let Some(path) = json {
-        writeln!(out, "JSON in {}", path.display())?;
+/// Where an experiment's results go: `--png`, `--json`, `--trace`.
+struct Outputs<'a> {
+    png: &'a Path,
+    json: Option<&'a Path>,
+    trace: Option<&'a Path>,
+}
+
+impl Outputs<'_> {
+    /// Fails before a long run, not after it, when the JSON or trace file cannot be written.
+    fn check(&self) -> Result<()> {
+        for path in self.json.iter().chain(self.trace.iter()) {
+            std::fs::File::create(path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        Ok(())
     }
-    Ok(())
+
+    /// Writes the pictures, the trace and the JSON, then prints the table and where each went.
+    fn publish(&self, r: &impl Report) -> Result<()> {
+        let pictures = r.write_pictures(self.png)?;
+        if let Some(path) = self.trace {
+            r.write_trace(path)?;
+        }
+        if let Some(path) = self.json {
+            let text = serde_json::to_string(&r.json())?;
+            std::fs::write(path, text + "\n")
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        let mut out = std::io::stdout().lock();
+        write!(out, "{}", r.table())?;
+        writeln!(out, "{} pictures in {}", pictures.len(), self.png.display())?;
+        if let Some(path) = self.json {
+            writeln!(out, "JSON in {}", path.display())?;
+        }
+        if let Some(path) = self.trace {
+            writeln!(out, "trace in {}", path.display())?;
+        }
+        Ok(())
+    }
 }
 
 fn run_stimuli(a: StimuliArgs) -> Result<()> {
@@ -677,10 +701,9 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     };
-    let r = stimuli::run(&config, a.common.jobs()?)?;
-    let pictures = r.write_pictures(&a.png)?;
-    a.common.write_json(&r.json())?;
-    report(&r.table(), &pictures, &a.png, &a.common.json)
+    let out = a.common.outputs(&a.png, None);
+    out.check()?;
+    out.publish(&stimuli::run(&config, a.common.jobs()?)?)
 }
 
 fn run_evasion(a: EvasionArgs) -> Result<()> {
@@ -697,16 +720,12 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         ..evasion::EvasionConfig::default()
     };
     config.validate()?;
+    let out = a.common.outputs(&a.png, a.trace.as_deref());
+    out.check()?;
     let bar = progress_bar("evasion", config.total_frames());
     let r = evasion::run(&config, a.common.jobs()?, &|n| bar.inc(n));
     bar.finish_and_clear();
-    let r = r?;
-    let pictures = r.write_pictures(&a.png)?;
-    if let Some(path) = &a.trace {
-        r.write_trace(path)?;
-    }
-    a.common.write_json(&r.json())?;
-    report(&r.table(), &pictures, &a.png, &a.common.json)
+    out.publish(&r?)
 }
 
 fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
@@ -723,16 +742,12 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         trace: a.trace.is_some(),
     };
     config.validate()?;
+    let out = a.common.outputs(&a.png, a.trace.as_deref());
+    out.check()?;
     let bar = progress_bar("two-threats", config.total_frames());
     let r = two_threats::run(&config, a.common.jobs()?, &|n| bar.inc(n));
     bar.finish_and_clear();
-    let r = r?;
-    let pictures = r.write_pictures(&a.png)?;
-    if let Some(path) = &a.trace {
-        r.write_trace(path)?;
-    }
-    a.common.write_json(&r.json())?;
-    report(&r.table(), &pictures, &a.png, &a.common.json)
+    out.publish(&r?)
 }
 
 fn run_swarm(a: SwarmArgs) -> Result<()> {
@@ -746,13 +761,13 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     };
+    config.validate()?;
+    let out = a.common.outputs(&a.png, None);
+    out.check()?;
     let bar = progress_bar("swarm", config.total_frames());
     let r = swarm::run(&config, a.common.jobs()?, &|n| bar.inc(n));
     bar.finish_and_clear();
-    let r = r?;
-    let pictures = r.write_pictures(&a.png)?;
-    a.common.write_json(&r.json())?;
-    report(&r.table(), &pictures, &a.png, &a.common.json)
+    out.publish(&r?)
 }
 
 fn run_arena(a: ArenaArgs) -> Result<()> {
@@ -778,39 +793,15 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
     };
     let jobs = jobs(a.jobs)?;
     config.validate()?;
-    if let Some(path) = &a.trace {
-        // fail before the run, not after it
-        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    }
+    let out = Outputs {
+        png: &a.png,
+        json: a.json.as_deref(),
+        trace: a.trace.as_deref(),
+    };
+    out.check()?;
     // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).
-    let bar = indicatif::ProgressBar::new(arena::total_frames(&config));
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "arena {elapsed_precise} [{bar:40}] {percent:>3}% of {len} frames, eta {eta}",
-        )
-        .expect("a valid template")
-        .progress_chars("=> "),
-    );
+    let bar = progress_bar("arena", arena::total_frames(&config));
     let report = arena::run(&config, jobs, &|n| bar.inc(n));
     bar.finish_and_clear();
-    let report = report?;
-    let pictures = report.write_pictures(&a.png)?;
-    if let Some(path) = &a.trace {
-        report.write_trace(path)?;
-    }
-    if let Some(path) = &a.json {
-        let text = serde_json::to_string(&report.json())?;
-        std::fs::write(path, text + "\n")
-            .with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    let mut out = std::io::stdout().lock();
-    write!(out, "{}", report.table())?;
-    writeln!(out, "{} pictures in {}", pictures.len(), a.png.display())?;
-    if let Some(path) = &a.json {
-        writeln!(out, "JSON in {}", path.display())?;
-    }
-    if let Some(path) = &a.trace {
-        writeln!(out, "trace in {}", path.display())?;
-    }
-    Ok(())
+    out.publish(&report?)
 }

@@ -16,7 +16,7 @@ use anyhow::{ensure, Context, Result};
 use serde::Serialize;
 
 use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
-use super::parallel;
+use super::{parallel, Report};
 use crate::arena::{Kind, Rng, TopDown, WallTexture, World};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
@@ -98,10 +98,7 @@ impl EvasionConfig {
             "--speed must be 10..=400 mm/s, got {}",
             self.speed_mm_s
         );
-        ensure!(!self.controllers.is_empty(), "no controller to run");
-        self.params
-            .validate()
-            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::validate_setup(&self.controllers, &self.params)?;
         super::texture(&self.background)
     }
 
@@ -286,9 +283,9 @@ pub fn run(
     })
 }
 
-impl EvasionReport {
+impl Report for EvasionReport {
     /// `{"alvs":{"angles":9,"correct_side":k,"collisions":c,...},"lgmd2":{...}}`.
-    pub fn json(&self) -> serde_json::Value {
+    fn json(&self) -> serde_json::Value {
         let cfg = &self.config;
         super::per_controller_json(
             self.controllers
@@ -304,7 +301,7 @@ impl EvasionReport {
     }
 
     /// One line per bearing and controller, then the totals.
-    pub fn table(&self) -> String {
+    fn table(&self) -> String {
         use std::fmt::Write;
         let c = &self.config;
         let mut out = String::new();
@@ -362,13 +359,13 @@ impl EvasionReport {
     }
 
     /// Writes the trials' traces as CSV (`controller,bearing_deg,` + [`encounter::TRACE_HEADER`]).
-    pub fn write_trace(&self, path: &Path) -> Result<()> {
+    fn write_trace(&self, path: &Path) -> Result<()> {
         encounter::write_trace(path, "controller,bearing_deg", &self.traces)
     }
 
     /// `evasion.png` in `dir`: one top-down panel per controller with the tested robot's path
     /// for every bearing (one colour per bearing) and the obstacles' paths in grey.
-    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
         let c = Canvas::side_by_side(&panels);

@@ -13,11 +13,12 @@
 //! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
 //! runs independent trials on worker threads.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use alvs_tasks::Params;
+use anyhow::{bail, ensure, Context, Result};
 
-use crate::arena::WallTexture;
+use crate::arena::{Kind, WallTexture};
 
 pub mod arena;
 pub mod encounter;
@@ -27,20 +28,46 @@ pub mod stimuli;
 pub mod swarm;
 pub mod two_threats;
 
+/// What every experiment's result gives the CLI: a table, JSON, pictures and, for the
+/// experiments that keep one, a frame-by-frame trace.
+pub trait Report {
+    /// The summary table printed on stdout.
+    fn table(&self) -> String;
+
+    /// The results as one JSON document (`--json`).
+    fn json(&self) -> serde_json::Value;
+
+    /// Writes the pictures into `dir` (created) and returns their paths.
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>>;
+
+    /// Writes the frame-by-frame trace as CSV (`--trace`).
+    fn write_trace(&self, path: &Path) -> Result<()> {
+        bail!(
+            "this experiment keeps no trace, so {} was not written",
+            path.display()
+        )
+    }
+}
+
+/// The checks every experiment's configuration shares: something to run and valid model
+/// parameters.
+pub fn validate_setup(controllers: &[Kind], params: &Params) -> Result<()> {
+    ensure!(!controllers.is_empty(), "no controller to run");
+    params
+        .validate()
+        .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))
+}
+
 /// Reads a `--background` specification (`plain[:GREY]`, `stripes[:PERIOD_MM]`,
-/// `checker[:SIZE_MM]`, `clutter[:SEED]`, `foliage[:SEED]` or a PNG/JPEG path); the error is
+/// `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]` or a PNG/JPEG path); the error is
 /// one line.
 pub fn texture(spec: &str) -> Result<WallTexture> {
     let name = spec.split_once(':').map_or(spec, |(n, _)| n);
     let known = WallTexture::NAMES.contains(&name);
     if !known && !Path::new(spec).exists() {
         bail!(
-            "--background {spec}: neither {} nor an existing PNG/JPEG file",
-            WallTexture::NAMES
-                .iter()
-                .map(|n| format!("{n}[:..]"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], checker[:SIZE_MM], \
+             clutter[:SEED], outdoor[:SEED] nor an existing PNG/JPEG file"
         );
     }
     WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))

@@ -29,7 +29,7 @@ use alvs_tasks::{Frame, Params};
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use super::parallel;
+use super::{parallel, Report};
 use crate::arena::controller::{Approach, Stationary};
 use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
 use crate::arena::world::ROBOT_RADIUS_MM;
@@ -362,9 +362,9 @@ fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Re
     })
 }
 
-impl StimuliReport {
+impl Report for StimuliReport {
     /// `{"scenes":[{...}, ...]}`.
-    pub fn json(&self) -> serde_json::Value {
+    fn json(&self) -> serde_json::Value {
         serde_json::json!({
             "scenes": self.scenes,
             "seed": self.config.seed,
@@ -373,7 +373,7 @@ impl StimuliReport {
     }
 
     /// One line per scene.
-    pub fn table(&self) -> String {
+    fn table(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let _ = writeln!(
@@ -417,7 +417,7 @@ impl StimuliReport {
     /// Per scene: `<scene>_tracks.png` (each field's column over time with the obstacles'
     /// columns), `<scene>_trace.png` (LPLC2 per field) and `<scene>_layers_NNNN.png` (the
     /// layers at the first alert and the peak), in `dir`.
-    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let mut paths = Vec::new();
         for s in &self.scenes {

@@ -21,7 +21,7 @@ use anyhow::{ensure, Context, Result};
 use serde::Serialize;
 
 use super::arena::start_poses;
-use super::parallel;
+use super::{parallel, Report};
 use crate::arena::{
     GyroParams, Kind, MotorParams, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
 };
@@ -84,7 +84,8 @@ impl SwarmConfig {
         self.frames() * self.controllers.len() as u64
     }
 
-    fn check(&self) -> Result<crate::arena::WallTexture> {
+    /// Checks the configuration and reads the background (one error line).
+    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
         ensure!(
             (2..=30).contains(&self.robots),
             "--robots must be 2..=30 for a swarm, got {}",
@@ -95,10 +96,7 @@ impl SwarmConfig {
             "--minutes must be a positive number up to 1000, got {}",
             self.minutes
         );
-        ensure!(!self.controllers.is_empty(), "no controller to run");
-        self.params
-            .validate()
-            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::validate_setup(&self.controllers, &self.params)?;
         super::texture(&self.background)
     }
 }
@@ -182,7 +180,7 @@ pub fn run(
     jobs: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<SwarmReport> {
-    let texture = config.check()?;
+    let texture = config.validate()?;
     let arena = World::default().arena;
     let starts = start_poses(&arena, config.robots, config.seed)?;
     let t0 = std::time::Instant::now();
@@ -275,9 +273,9 @@ fn round1(v: f64) -> f64 {
     (v * 10.0).round() / 10.0
 }
 
-impl SwarmReport {
+impl Report for SwarmReport {
     /// `{"swarm":{...},"alvs":{...}}`: one key per controller.
-    pub fn json(&self) -> serde_json::Value {
+    fn json(&self) -> serde_json::Value {
         let c = &self.config;
         super::per_controller_json(
             self.trials.iter().map(|t| (t.controller.to_string(), t)),
@@ -287,7 +285,7 @@ impl SwarmReport {
     }
 
     /// One line per controller.
-    pub fn table(&self) -> String {
+    fn table(&self) -> String {
         use std::fmt::Write;
         let c = &self.config;
         let mut out = String::new();
@@ -331,7 +329,7 @@ impl SwarmReport {
 
     /// `swarm_spread.png` (spread and nearest-neighbour distance over time per controller)
     /// and `swarm_<controller>.png` (trails) in `dir`.
-    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let mut plot = Plot::new(&format!(
             "{} robots: spread (RMS distance from the centroid) and nearest neighbour, mm",

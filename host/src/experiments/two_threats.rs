@@ -20,7 +20,7 @@ use anyhow::{ensure, Context, Result};
 use serde::Serialize;
 
 use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
-use super::parallel;
+use super::{parallel, Report};
 use crate::arena::{Kind, Rng, TopDown, World};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
@@ -121,10 +121,7 @@ impl TwoThreatConfig {
             self.fast_mm_s,
             self.slow_mm_s
         );
-        ensure!(!self.controllers.is_empty(), "no controller to run");
-        self.params
-            .validate()
-            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        super::validate_setup(&self.controllers, &self.params)?;
         super::texture(&self.background)
     }
 
@@ -288,9 +285,9 @@ pub fn run(
     })
 }
 
-impl TwoThreatReport {
+impl Report for TwoThreatReport {
     /// `{"alvs":{"runs":..,"away_from_faster":..,"fraction":..,...},"lgmd2":{...}}`.
-    pub fn json(&self) -> serde_json::Value {
+    fn json(&self) -> serde_json::Value {
         let cfg = &self.config;
         super::per_controller_json(
             self.controllers
@@ -307,7 +304,7 @@ impl TwoThreatReport {
     }
 
     /// One line per controller.
-    pub fn table(&self) -> String {
+    fn table(&self) -> String {
         use std::fmt::Write;
         let c = &self.config;
         let mut out = String::new();
@@ -337,13 +334,13 @@ impl TwoThreatReport {
     }
 
     /// Writes the trials' traces as CSV (`controller,run,` + [`encounter::TRACE_HEADER`]).
-    pub fn write_trace(&self, path: &Path) -> Result<()> {
+    fn write_trace(&self, path: &Path) -> Result<()> {
         encounter::write_trace(path, "controller,run", &self.traces)
     }
 
     /// `two_threats.png` in `dir`: per controller, the tested robot's paths of the first runs
     /// (up to 12), green when it turned away from the faster obstacle, red otherwise.
-    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
         let c = Canvas::side_by_side(&panels);

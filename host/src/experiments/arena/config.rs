@@ -80,27 +80,12 @@ impl ArenaConfig {
             self.exposure
         );
         ensure!(!self.backgrounds.is_empty(), "no background to run on");
-        ensure!(!self.controllers.is_empty(), "no controller to run");
-        self.params
-            .validate()
-            .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+        crate::experiments::validate_setup(&self.controllers, &self.params)?;
         let mut backgrounds: Vec<(String, WallTexture)> = Vec::new();
         for spec in &self.backgrounds {
-            if backgrounds.iter().any(|(s, _)| s == spec) {
-                continue;
+            if !backgrounds.iter().any(|(s, _)| s == spec) {
+                backgrounds.push((spec.clone(), crate::experiments::texture(spec)?));
             }
-            let name = spec.split_once(':').map_or(spec.as_str(), |(n, _)| n);
-            let known = WallTexture::NAMES.contains(&name);
-            if !known && !Path::new(spec).exists() {
-                bail!(
-                    "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], \
-                     checker[:SIZE_MM], clutter[:SEED], outdoor[:SEED] nor an existing \
-                     PNG/JPEG file"
-                );
-            }
-            let texture =
-                WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))?;
-            backgrounds.push((spec.clone(), texture));
         }
         let mut controllers: Vec<Kind> = Vec::new();
         for &k in &self.controllers {

@@ -1,6 +1,7 @@
 //! The report: the table on stdout, the JSON, the trace file and the pictures' paths.
 
 use super::*;
+use crate::experiments::Report;
 
 /// Controller states in the order tables and pictures list them.
 pub(super) const STATE_ORDER: [&str; 5] =
@@ -49,10 +50,12 @@ impl ArenaReport {
         all.dedup();
         all
     }
+}
 
+impl Report for ArenaReport {
     /// `{"alvs": {...}, "lgmd2": {...}, "trials": [...]}`: one key per controller run (its
     /// [`ControllerSummary`]) and every [`Trial`].
-    pub fn json(&self) -> serde_json::Value {
+    fn json(&self) -> serde_json::Value {
         let mut map = serde_json::Map::new();
         for s in &self.summaries {
             map.insert(
@@ -72,7 +75,7 @@ impl ArenaReport {
     }
 
     /// The human summary: one line per trial, then one per controller with the paper's figure.
-    pub fn table(&self) -> String {
+    fn table(&self) -> String {
         use std::fmt::Write;
         let c = &self.config;
         let states = self.states();
@@ -225,7 +228,7 @@ impl ArenaReport {
 
     /// Writes every trial's trace as CSV ([`trace_header`], then the trials in order; empty
     /// unless the run had [`ArenaConfig::trace`]).
-    pub fn write_trace(&self, path: &Path) -> Result<()> {
+    fn write_trace(&self, path: &Path) -> Result<()> {
         let leads: Vec<String> = self
             .trials
             .iter()
@@ -243,7 +246,7 @@ impl ArenaReport {
 
     /// Writes one top-down trajectory picture per trial (`<controller>_<background>.png`) and
     /// `summary.png` into `dir` (created); returns their paths.
-    pub fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let mut paths = Vec::new();
         for t in &self.trials {
