@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use alvs_cycles::budget::{build_firmware, read_clip, BuildError, CLIPS_DIR};
+use alvs_cycles::system::closed_loop::BottomBoard;
 use alvs_cycles::system::{Board, Config, ResetCause};
 use alvs_cycles::CLOCK_HZ;
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
@@ -213,17 +214,9 @@ fn a_camera_stall_stops_the_motors_and_frames_bring_them_back() {
 
 /// The bottom board's state after every byte UART4 sent so far.
 fn wheels_after(b: &Board) -> BoardModel {
-    let mut wheels = BoardModel::new();
-    let mut frame = Vec::new();
-    for &(_, byte) in b.uart_sent() {
-        frame.push(byte);
-        if byte == motor::END {
-            // a malformed frame changes nothing, as on the bottom board
-            let _ = wheels.apply(&frame);
-            frame.clear();
-        }
-    }
-    wheels
+    let mut wheels = BottomBoard::default();
+    wheels.hear(b.uart_sent().iter().map(|&(_, v)| v));
+    *wheels.registers()
 }
 
 #[test]

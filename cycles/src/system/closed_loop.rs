@@ -20,6 +20,32 @@ use alvs_tasks::Frame;
 
 use super::board::{Board, Config};
 
+/// The bottom board at the end of UART4: it gathers the bytes into frames and applies each
+/// complete one to its motor registers. A malformed frame changes nothing, as on the board.
+#[derive(Debug, Default)]
+pub struct BottomBoard {
+    registers: BoardModel,
+    pending: Vec<u8>,
+}
+
+impl BottomBoard {
+    /// Takes bytes as they arrive; a frame ends with [`motor::END`].
+    pub fn hear(&mut self, bytes: impl IntoIterator<Item = u8>) {
+        for b in bytes {
+            self.pending.push(b);
+            if b == motor::END {
+                let _ = self.registers.apply(&self.pending);
+                self.pending.clear();
+            }
+        }
+    }
+
+    /// The motor registers as the frames heard so far left them.
+    pub fn registers(&self) -> &BoardModel {
+        &self.registers
+    }
+}
+
 /// What the board did in one frame period.
 #[derive(Clone, Copy, Debug)]
 struct Step {
@@ -99,8 +125,7 @@ fn serve(
     let source = Box::new(move |_| camera.lock().map(|f| f.clone()).unwrap_or_default());
     let mut board = Board::new(elf, config, source).map_err(|e| e.to_string())?;
     board.run_for(BOOT_CYCLES).map_err(|e| e.to_string())?;
-    let mut wheels = BoardModel::new();
-    let mut pending: Vec<u8> = Vec::new();
+    let mut wheels = BottomBoard::default();
     // the bottom board hears everything from power-on (the enable sequence comes at priming)
     let (mut bytes_seen, mut text_seen) = (0, board.rtt(1).len());
     let mut seen = (State::Wander, 0, None);
@@ -112,14 +137,7 @@ fn serve(
             s.copy_from_slice(&frame);
         }
         board.run_for(period).map_err(|e| e.to_string())?;
-        for &(_, b) in &board.uart_sent()[bytes_seen..] {
-            pending.push(b);
-            if b == motor::END {
-                // a malformed frame changes nothing, as on the bottom board
-                let _ = wheels.apply(&pending);
-                pending.clear();
-            }
-        }
+        wheels.hear(board.uart_sent()[bytes_seen..].iter().map(|&(_, b)| b));
         bytes_seen = board.uart_sent().len();
         let text = &board.rtt(1)[text_seen..];
         if let Some(line) = text.lines().rfind(|l| l.starts_with("F ")) {
@@ -128,7 +146,7 @@ fn serve(
             }
         }
         text_seen = board.rtt(1).len();
-        let (l, r) = wheels.wheel_powers();
+        let (l, r) = wheels.registers().wheel_powers();
         let step = Step {
             left_mm_s: f32::from(l) / motor::POWER_PER_MM_S,
             right_mm_s: f32::from(r) / motor::POWER_PER_MM_S,
@@ -230,5 +248,39 @@ pub fn evasion_trial(
         result,
         correct_side,
         error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bytes(frames: &motor::MotorFrames) -> Vec<u8> {
+        frames.iter().flatten().copied().collect()
+    }
+
+    #[test]
+    fn the_bottom_board_applies_frames_split_anywhere_and_skips_malformed_ones() {
+        let wheels = bytes(&motor::wheel_frames(100.0, -50.0));
+        let mut expected = BoardModel::new();
+        expected.apply_all(&motor::enable_sequence()).unwrap();
+        expected
+            .apply_all(&motor::wheel_frames(100.0, -50.0))
+            .unwrap();
+        let mut board = BottomBoard::default();
+        board.hear(bytes(&motor::enable_sequence()));
+        // a malformed frame between two good ones, then frames cut across two reads
+        board.hear([0x00, 0x42, motor::END]);
+        let cut = wheels.len() - 3;
+        board.hear(wheels[..cut].iter().copied());
+        assert_eq!(
+            board.registers().wheel_powers(),
+            (0, 0),
+            "the cut frame waits"
+        );
+        board.hear(wheels[cut..].iter().copied());
+        assert!(board.registers().enabled());
+        assert_eq!(board.registers().wheel_powers(), expected.wheel_powers());
+        assert_ne!(expected.wheel_powers(), (0, 0));
     }
 }
