@@ -333,28 +333,44 @@ fn cli_helps_and_fails_cleanly() {
 #[test]
 fn an_unwritable_output_fails_before_the_run() {
     let dir = std::env::temp_dir().join(format!("alvs-unwritable-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let fails = |args: &[&str], png: &std::path::Path, what: &str| {
+        let out = alvs().args(args).arg("--png").arg(png).output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(what), "{args:?}: {err}");
+    };
     for (args, picture) in [
         (["evasion", "--trace"], "evasion.png"),
         (["two-threats", "--json"], "two_threats.png"),
         (["stimuli", "--json"], "approach_tracks.png"),
     ] {
-        let out = alvs()
-            .args(args)
-            .arg("/nonexistent/dir/out")
-            .arg("--png")
-            .arg(&dir)
-            .output()
-            .unwrap();
-        assert!(!out.status.success(), "{args:?}");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-        assert!(
-            err.contains("cannot write /nonexistent/dir/out"),
-            "{args:?}: {err}"
-        );
+        let args = [args[0], args[1], "/nonexistent/dir/out"];
+        fails(&args, &dir, "cannot write /nonexistent/dir/out");
         // nothing ran: no picture was drawn
         assert!(!dir.join(picture).exists(), "{args:?}");
     }
+    // a pictures folder that cannot be made (under a file) fails first too
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    fails(&["evasion"], &file.join("png"), "cannot create");
+    // a run refused for its arguments leaves an earlier JSON file as it was
+    let json = dir.join("earlier.json");
+    std::fs::write(&json, "{\"kept\":1}\n").unwrap();
+    let json_arg = json.to_str().unwrap();
+    fails(
+        &["stimuli", "--background", "bogus", "--json", json_arg],
+        &dir,
+        "bogus",
+    );
+    fails(
+        &["swarm", "--jobs", "0", "--json", json_arg],
+        &dir,
+        "--jobs",
+    );
+    assert_eq!(std::fs::read_to_string(&json).unwrap(), "{\"kept\":1}\n");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

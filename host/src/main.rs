@@ -660,11 +660,22 @@ struct Outputs<'a> {
 }
 
 impl Outputs<'_> {
-    /// Fails before a long run, not after it, when the JSON or trace file cannot be written.
+    /// Fails before a long run, not after it, when the pictures' folder cannot be made or the
+    /// JSON or trace file cannot be written. An existing file keeps its contents until the run
+    /// has new ones; a file made only for the check is removed again.
     fn check(&self) -> Result<()> {
+        std::fs::create_dir_all(self.png)
+            .with_context(|| format!("cannot create {}", self.png.display()))?;
         for path in self.json.iter().chain(self.trace.iter()) {
-            std::fs::File::create(path)
+            let existed = path.exists();
+            std::fs::OpenOptions::new()
+                .append(true)
+                .create(true)
+                .open(path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
+            if !existed {
+                let _ = std::fs::remove_file(path);
+            }
         }
         Ok(())
     }
@@ -701,9 +712,11 @@ fn run_stimuli(a: StimuliArgs) -> Result<()> {
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     };
+    config.validate()?;
+    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
     out.check()?;
-    out.publish(&stimuli::run(&config, a.common.jobs()?)?)
+    out.publish(&stimuli::run(&config, jobs)?)
 }
 
 fn run_evasion(a: EvasionArgs) -> Result<()> {
@@ -720,10 +733,11 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         ..evasion::EvasionConfig::default()
     };
     config.validate()?;
+    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
     out.check()?;
     let bar = progress_bar("evasion", config.total_frames());
-    let r = evasion::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    let r = evasion::run(&config, jobs, &|n| bar.inc(n));
     bar.finish_and_clear();
     out.publish(&r?)
 }
@@ -742,10 +756,11 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         trace: a.trace.is_some(),
     };
     config.validate()?;
+    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
     out.check()?;
     let bar = progress_bar("two-threats", config.total_frames());
-    let r = two_threats::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    let r = two_threats::run(&config, jobs, &|n| bar.inc(n));
     bar.finish_and_clear();
     out.publish(&r?)
 }
@@ -762,10 +777,11 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         exposure: a.common.camera.exposure,
     };
     config.validate()?;
+    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
     out.check()?;
     let bar = progress_bar("swarm", config.total_frames());
-    let r = swarm::run(&config, a.common.jobs()?, &|n| bar.inc(n));
+    let r = swarm::run(&config, jobs, &|n| bar.inc(n));
     bar.finish_and_clear();
     out.publish(&r?)
 }

@@ -90,3 +90,17 @@ pub fn per_controller_json<'a, T: serde::Serialize + 'a>(
     map.insert("config".into(), config);
     serde_json::Value::Object(map)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unknown_background_is_one_line_naming_every_form() {
+        let err = texture("nonsense:3").unwrap_err().to_string();
+        assert_eq!(err.lines().count(), 1, "{err}");
+        for name in WallTexture::NAMES {
+            assert!(err.contains(&format!("{name}[:")), "{name}: {err}");
+        }
+    }
+}

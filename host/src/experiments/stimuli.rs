@@ -163,6 +163,14 @@ impl Default for StimuliConfig {
     }
 }
 
+impl StimuliConfig {
+    /// Checks the configuration and reads the background (one error line).
+    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
+        super::validate_setup(&[Kind::Alvs], &self.params)?;
+        super::texture(&self.background)
+    }
+}
+
 /// An attention field's sample: `[frame, x, y, lplc2]`.
 pub type TrackPoint = [u32; 4];
 
@@ -221,11 +229,7 @@ pub struct StimuliReport {
 
 /// Runs the five scenes on `jobs` threads (0 = all cores).
 pub fn run(config: &StimuliConfig, jobs: usize) -> Result<StimuliReport> {
-    let texture = super::texture(&config.background)?;
-    config
-        .params
-        .validate()
-        .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))?;
+    let texture = config.validate()?;
     let t0 = std::time::Instant::now();
     let all = scenes();
     let scenes = parallel::map(all.len(), jobs, |i| {
