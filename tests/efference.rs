@@ -152,3 +152,106 @@ fn a_quiet_scene_lowers_the_attention_threshold() {
     println!("first alert at {quiet:.0} mm (T_a {table_i:.0} mm)");
     assert!(quiet > table_i + 10.0, "{quiet} against {table_i}");
 }
+
+/// A dark square centred at `(49, cy)` growing from 4 to 40 px over 24 frames on mid-grey:
+/// the number of alert frames of a network told before each frame that it drives at
+/// `forward_mm_s`.
+fn looming_alerts(cy: usize, forward_mm_s: f32) -> u32 {
+    use alvs_tasks::{HEIGHT, PIXELS, WIDTH};
+    let mut net = Network::new(Params {
+        band_row: 27,
+        floor_row: 0,
+        ..Params::ALVS
+    })
+    .unwrap();
+    let mut alerts = 0;
+    for i in 0..24 {
+        let half = 2 + (18 * i) / 23;
+        let mut f = [128u8; PIXELS];
+        for y in cy.saturating_sub(half)..(cy + half).min(HEIGHT) {
+            for x in 49 - half..(49 + half).min(WIDTH) {
+                f[y * WIDTH + x] = 30;
+            }
+        }
+        net.driving(forward_mm_s);
+        alerts += u32::from(net.step(&f).vm.alert);
+    }
+    alerts
+}
+
+#[test]
+fn driving_silences_the_fields_above_the_band_only() {
+    let (high_standing, high_driving) = (looming_alerts(14, 0.0), looming_alerts(14, 100.0));
+    let (low_standing, low_driving) = (looming_alerts(40, 0.0), looming_alerts(40, 100.0));
+    println!("high {high_standing} -> {high_driving}, low {low_standing} -> {low_driving}");
+    assert!(
+        high_standing >= 8,
+        "a standing robot sees it: {high_standing}"
+    );
+    assert_eq!(
+        high_driving, 0,
+        "driving, the scene above the band is its own flow"
+    );
+    assert!(low_standing >= 8, "{low_standing}");
+    assert_eq!(low_driving, low_standing, "in the band nothing changes");
+    // driving slower than DRIVING_MM_S is standing
+    assert_eq!(looming_alerts(14, 10.0), high_standing);
+}
+
+/// Drives straight at the plain wall at y = 900 mm from `from` to `to` mm (centre to wall) at
+/// 100 mm/s; per frame (distance, alert, X̄).
+fn drive_at_wall(
+    floor_row: u8,
+    driving: bool,
+    from: f64,
+    to: f64,
+) -> Vec<(f64, bool, Option<f32>)> {
+    let world = World::with_texture(WallTexture::from_spec("plain:200").unwrap());
+    let r = Renderer::new(&world);
+    let mut net = Network::new(Params {
+        floor_row,
+        ..Params::ALVS
+    })
+    .unwrap();
+    let mut out = Vec::new();
+    let mut d = from;
+    while d >= to {
+        net.driving(if driving { 100.0 } else { 0.0 });
+        let p = net.step(&r.render(&[Pose::new(600.0, 900.0 - d, 90.0)], 0));
+        out.push((d, p.vm.alert, p.vm.threat_x));
+        d -= 100.0 / 30.0;
+    }
+    out
+}
+
+#[test]
+fn driving_at_a_wall_the_floor_line_alerts_within_its_distance() {
+    let driving = drive_at_wall(52, true, 300.0, 60.0);
+    let first = driving.iter().find(|(_, a, _)| *a).map(|(d, _, _)| *d);
+    println!("first alert at {first:?} mm");
+    // row 52 lies 20·70/16.5 ≈ 85 mm ahead of the camera, which is 19 mm ahead of the centre
+    let first = first.expect("the wall ahead alerts");
+    assert!((90.0..=115.0).contains(&first), "{first} mm");
+    for (d, alert, x) in &driving {
+        if *d < first {
+            assert!(*alert, "{d} mm: every closer frame alerts");
+            assert!(
+                x.is_some_and(|x| (x - 49.0).abs() <= 3.0),
+                "{d} mm: dead ahead, {x:?}"
+            );
+        }
+    }
+    // standing, or with the mechanism off, the floor line says nothing
+    for (floor_row, drives) in [(52, false), (0, true)] {
+        let quiet = drive_at_wall(floor_row, drives, 300.0, 60.0);
+        let alerts = quiet.iter().filter(|(_, a, _)| *a).count();
+        assert!(
+            alerts < first_alerts(&driving) / 2,
+            "{floor_row} {drives}: {alerts}"
+        );
+    }
+}
+
+fn first_alerts(v: &[(f64, bool, Option<f32>)]) -> usize {
+    v.iter().filter(|(_, a, _)| *a).count()
+}

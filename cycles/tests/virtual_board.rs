@@ -154,8 +154,9 @@ fn a_clip_runs_bit_identical_to_the_host_build() {
         safety.frame(33 * k as u32);
         let enable = safety.fault().is_none() && safety.primed();
         let (command, out) = control.step(&p.vm, enable);
-        // motor control reports the turn before it parks the network
+        // motor control reports the turn and the forward speed before it parks the network
         network.turned(control.last_turn_deg());
+        network.driving(control.last_forward_mm_s());
         expected_bytes.extend(out.iter().flatten());
         let host = Record::from_perception(&p, command.state, 0).to_line();
         assert_eq!(

@@ -131,6 +131,8 @@ impl Controller for AlvsController {
         }
         let out = self.net.step(frame);
         let cmd = self.fsm.step(&out.vm, heading_deg);
+        // the efference copy of forward motion for the next frame
+        self.net.driving((cmd.left_mm_s + cmd.right_mm_s) / 2.0);
         Command {
             left_mm_s: cmd.left_mm_s,
             right_mm_s: cmd.right_mm_s,
@@ -147,6 +149,7 @@ impl Controller for AlvsController {
 
     fn command_not_applied(&mut self) {
         self.fsm.command_not_applied();
+        self.net.driving(0.0);
     }
 }
 

@@ -18,6 +18,7 @@
 pub mod attention;
 pub mod derotate;
 pub mod dsp;
+pub mod floor;
 pub mod fsm;
 pub mod hrc;
 pub mod lplc2;

@@ -15,6 +15,7 @@
 use crate::frame::{Frame, WIDTH};
 use crate::model::attention::{self, Fields};
 use crate::model::derotate::Turn;
+use crate::model::floor;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
 use crate::model::luminance;
@@ -31,6 +32,9 @@ pub const MAX_AFS: usize = 6;
 /// Motion adaptation (`Params::adapt_frames`): the short mode needs `ΣLPLC2` above this many
 /// times its running mean.
 pub const ADAPT_RATIO: f32 = 2.0;
+
+/// Forward speed above which the robot counts as driving (`Network::driving`), mm/s.
+pub const DRIVING_MM_S: f32 = 20.0;
 
 /// One attention field's output for a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -97,6 +101,8 @@ pub struct Network {
     fields: Fields,
     /// Running mean of `ΣLPLC2` (`Params::adapt_frames`).
     adapted: f32,
+    /// The efference copy of forward motion for the next frame (`Network::driving`).
+    driving: bool,
 }
 
 impl Network {
@@ -111,6 +117,7 @@ impl Network {
             frames: 0,
             fields: Fields::default(),
             adapted: 0.0,
+            driving: false,
         })
     }
 
@@ -137,6 +144,7 @@ impl Network {
             frames: 0,
             fields: Fields::new(),
             adapted: 0.0,
+            driving: false,
         }
     }
 
@@ -239,6 +247,14 @@ impl Network {
         true
     }
 
+    /// The efference copy of forward motion: the robot's forward speed, mm/s, until the next
+    /// frame. Above [`DRIVING_MM_S`] the robot drives, and the mechanisms that need it apply to
+    /// that frame: `Params::band_row` and `Params::floor_row`. A robot that never reports
+    /// (a camera on a stand, a clip) stands.
+    pub fn driving(&mut self, forward_mm_s: f32) {
+        self.driving = forward_mm_s > DRIVING_MM_S;
+    }
+
     /// Drops a partly streamed frame. The rows taken have already replaced part of the
     /// previous frame and of the maps, so the network starts over (fields forgotten, the next
     /// frame primes).
@@ -320,10 +336,16 @@ impl Network {
             }
             f.drive = lplc2::drive(l.quadrants);
             f.drive_at = (f.x, f.y);
+            // `Params::band_row`: driving, the scene above the body's height is its own flow
+            if self.driving && f.y < p.band_row {
+                l.response = 0;
+            }
         }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
-        // fills after a (re)start, and on a whole-field luminance event, no field is stimulated.
-        if index < u32::from(p.warmup) || luminance::is_event_of(changing, p.flicker_pct) {
+        // fills after a (re)start, and on a whole-field luminance event, no field is stimulated
+        // (and the floor line says nothing either).
+        let silent = index < u32::from(p.warmup) || luminance::is_event_of(changing, p.flicker_pct);
+        if silent {
             for l in lplc.iter_mut() {
                 l.response = 0;
             }
@@ -363,12 +385,25 @@ impl Network {
         if p.blocked_change > 0 {
             vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
         }
+        if self.driving && p.floor_row > 0 && !silent && !vm.alert {
+            if let Some(x) = self.floor_line() {
+                vm.ahead(x, &p);
+            }
+        }
         mark(Stage::Visuomotor);
         Ok(Perception {
             frame: index,
             afs,
             vm,
         })
+    }
+
+    /// `Params::floor_row`: the column of an obstacle close ahead. Kept out of the frame step
+    /// so that its locals do not add to the step's frame under the deepest path (the
+    /// firmware's stack budget).
+    #[inline(never)]
+    fn floor_line(&self) -> Option<u8> {
+        floor::obstacle_ahead(self.retina.prev(), self.params.floor_row)
     }
 
     /// FNV-1a digest of the whole state (maps, previous frame, fields, counters): equal

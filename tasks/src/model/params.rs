@@ -1,6 +1,8 @@
 //! Every parameter of the aLPLC2 network in one place: the paper's Table I with its defaults,
 //! and the values the paper leaves unstated, each a documented choice (`docs/model.md`).
 
+use crate::frame::HEIGHT;
+
 /// Largest number of connected neurons `n` per correlator (Eq. 6).
 pub const MAX_N: u8 = 4;
 /// Largest reach `n * s` of a correlator, in pixels.
@@ -102,6 +104,19 @@ pub struct Params {
     /// full of motion keeps Table I's `T_a`. 0 turns it off (the paper). See `docs/model.md`,
     /// "Closed-loop mechanisms".
     pub t_a_quiet: u32,
+    /// Fields centred above this row are silent while the robot drives forward (its efference
+    /// copy, [`crate::Network::driving`]): driving, the expansion of the scene above the
+    /// body's height is the robot's own translation, and anything that can touch a ground robot
+    /// also reaches into the rows below. Standing, every field responds. 0 turns it off (the
+    /// paper and, for now, the default; 27 measured in `docs/experiments.md`). See
+    /// `docs/model.md`, "Closed-loop mechanisms".
+    pub band_row: u8,
+    /// While the robot drives forward and no field alerts, an obstacle whose foot (where it
+    /// meets the floor) lies at or below this row inside the robot's path alerts
+    /// ([`crate::model::floor`]): with the camera at a fixed height over a flat floor, the row
+    /// is the distance. 0 turns it off (the paper and, for now, the default; 52 measured in
+    /// `docs/experiments.md`). See `docs/model.md`, "Closed-loop mechanisms".
+    pub floor_row: u8,
 }
 
 impl Params {
@@ -132,6 +147,8 @@ impl Params {
         adapt_frames: 0,
         q_grow_pct: 0,
         t_a_quiet: 0,
+        band_row: 0,
+        floor_row: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -170,7 +187,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 25] = [
+    pub const NAMES: [&'static str; 27] = [
         "w",
         "n",
         "r_af",
@@ -196,12 +213,14 @@ impl Params {
         "adapt_frames",
         "q_grow_pct",
         "t_a_quiet",
+        "band_row",
+        "floor_row",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 25] = [
+    pub const RANGES: [Range; 27] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -227,6 +246,8 @@ impl Params {
         Range::Int(0, 255),
         Range::Int(0, 255),
         Range::Int(0, u32::MAX as i64),
+        Range::Int(0, HEIGHT as i64 - 1),
+        Range::Int(0, HEIGHT as i64 - 1),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -254,6 +275,8 @@ impl Params {
         check_int("adapt_frames", self.adapt_frames.into())?;
         check_int("q_grow_pct", self.q_grow_pct.into())?;
         check_int("t_a_quiet", self.t_a_quiet.into())?;
+        check_int("band_row", self.band_row.into())?;
+        check_int("floor_row", self.floor_row.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -305,8 +328,10 @@ impl Params {
             "derotate" => p.derotate = int(name, v)?,
             "adapt_frames" => p.adapt_frames = int(name, v)?,
             "q_grow_pct" => p.q_grow_pct = int(name, v)?,
+            "t_a_quiet" => p.t_a_quiet = int(name, v)?,
+            "band_row" => p.band_row = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.t_a_quiet = int(name, v)?,
+            _ => p.floor_row = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -476,9 +501,11 @@ mod tests {
                 paper.adapt_frames,
                 paper.q_grow_pct,
                 paper.q_arms,
-                paper.t_a_quiet
+                paper.t_a_quiet,
+                paper.band_row,
+                paper.floor_row
             ),
-            (0, 0, 0, 0, 0, 0, 4, 0),
+            (0, 0, 0, 0, 0, 0, 4, 0, 0, 0),
             "the paper has none"
         );
         assert_eq!(
@@ -490,9 +517,11 @@ mod tests {
                 alvs.adapt_frames,
                 alvs.q_grow_pct,
                 alvs.q_arms,
-                alvs.t_a_quiet
+                alvs.t_a_quiet,
+                alvs.band_row,
+                alvs.floor_row
             ),
-            (4, 50, 2, 1, 30, 50, 3, 30)
+            (4, 50, 2, 1, 30, 50, 3, 30, 0, 0)
         );
         // everything else is the paper's
         assert_eq!(

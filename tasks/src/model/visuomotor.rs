@@ -33,6 +33,18 @@ pub struct Visuomotor {
 }
 
 impl Visuomotor {
+    /// An obstacle close ahead in column `x` (`Params::floor_row`), on a frame no field
+    /// alerts on: an alert whose threat is there, at the lowest strength and without the short
+    /// mode (ΣLPLC2 stays 0).
+    #[inline(always)]
+    pub fn ahead(&mut self, x: u8, p: &Params) {
+        let x = f32::from(x);
+        self.alert = true;
+        self.threat_x = Some(x);
+        self.theta_long = Some(theta_long(x, p.alpha));
+        self.theta_short = Some(theta_short(x, p.alpha));
+    }
+
     /// Converges the fields' `(x̄_k, LPLC2_k)` pairs into the visuomotor signals.
     pub fn from_fields(fields: impl Iterator<Item = (u8, u32)> + Clone, p: &Params) -> Self {
         let sum = fields

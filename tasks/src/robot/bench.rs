@@ -93,6 +93,7 @@ pub fn step(
     let mut stamps = [0u32; STAMPS];
     stamps[0] = clock();
     network.turned(control.last_turn_deg());
+    network.driving(control.last_forward_mm_s());
     let perception = network.step_marked(frame, &mut |s| {
         let i = match s {
             Stage::Retina => 1,

@@ -22,6 +22,9 @@ pub struct Control<H = Odometry> {
     /// How far the heading estimate turned in the last step, degrees: the efference copy the
     /// network takes before the next frame (`Network::turned`).
     turn_deg: f32,
+    /// The forward speed the wheels were given in the last step, mm/s: the efference copy of
+    /// forward motion (`Network::driving`).
+    forward_mm_s: f32,
 }
 
 impl Control<Odometry> {
@@ -40,6 +43,7 @@ impl<H: HeadingEstimator> Control<H> {
             heading,
             motors: MotorOutput::new(),
             turn_deg: 0.0,
+            forward_mm_s: 0.0,
         }
     }
 
@@ -60,6 +64,7 @@ impl<H: HeadingEstimator> Control<H> {
         let before = self.heading.heading_deg();
         self.heading.update(l, r, FRAME_PERIOD_S);
         self.turn_deg = wrap_deg(self.heading.heading_deg() - before);
+        self.forward_mm_s = (l + r) / 2.0;
         (c, frames)
     }
 
@@ -72,6 +77,12 @@ impl<H: HeadingEstimator> Control<H> {
     /// right): what the network is told before the next frame ([`crate::Network::turned`]).
     pub fn last_turn_deg(&self) -> f32 {
         self.turn_deg
+    }
+
+    /// The forward speed the wheels were given in the last step, mm/s (0 while the motors
+    /// are off): what the network is told before the next frame ([`crate::Network::driving`]).
+    pub fn last_forward_mm_s(&self) -> f32 {
+        self.forward_mm_s
     }
 
     /// The FSM.

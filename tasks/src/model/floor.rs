@@ -1,0 +1,168 @@
+//! The floor line: how far an obstacle ahead stands, from where it meets the floor
+//! (`Params::floor_row`, a closed-loop mechanism; not in the paper).
+//!
+//! A ground robot's camera sits at a fixed height `h` over a flat floor, so a point of the
+//! floor `Z` ahead of the camera images `f·h/Z` rows below the horizon: the row where an
+//! obstacle meets the floor is its distance. A wall or robot close ahead has its foot low in
+//! the image, a far one near the horizon. In each column the foot is the lowest run of
+//! [`FOOT_ROWS`] rows that differ from the floor's grey by more than [`FLOOR_TOL`]; the floor's
+//! grey is the median of [`FLOOR_SAMPLE`] pixels of the bottom row's middle 40 columns. Only columns inside
+//! the robot's path count: `|h·(x − 49)/(row − 35.5)|`, the lateral offset of the foot, within
+//! [`PATH_HALF_WIDTH_MM`]. Integer arithmetic, one pass over the lower half of the frame.
+//!
+//! The geometry is the arena's camera ([`CAMERA_HEIGHT_MM`], the horizon at row 35.5, 70° over
+//! 99 columns); the firmware's camera is taken to match it (`docs/hardware.md`).
+
+use crate::frame::{HEIGHT, PIXELS, WIDTH};
+
+/// Height of the camera above the floor, mm.
+pub const CAMERA_HEIGHT_MM: i32 = 20;
+/// Half the width of the path the robot sweeps (its 21 mm radius and a margin), mm.
+pub const PATH_HALF_WIDTH_MM: i32 = 30;
+/// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2).
+pub const FLOOR_TOL: i32 = 12;
+/// Consecutive rows, bottom up, that must differ from the floor.
+pub const FOOT_ROWS: usize = 2;
+/// Bottom-row pixels, 10 columns apart around the centre, whose median is the floor's grey.
+pub const FLOOR_SAMPLE: usize = 5;
+
+/// Twice the horizon row (35.5), so that row offsets stay integers.
+const HORIZON_X2: i32 = HEIGHT as i32 - 1;
+
+/// The column of the nearest obstacle in the robot's path whose foot lies at or below
+/// `near_row`, or `None`: the mean column of the feet in the path within one row of the
+/// lowest, so a wall square ahead points straight ahead and a slanted one to its near side.
+/// `near_row` 0 (the mechanism off), at the horizon or above, or below the frame gives `None`.
+///
+/// Never inlined: its locals then live only while it runs, after the motion stage, instead of
+/// adding to the caller's frame under the deepest path (the firmware's stack budget).
+#[inline(never)]
+pub fn obstacle_ahead(frame: &[u8; PIXELS], near_row: u8) -> Option<u8> {
+    let near = usize::from(near_row);
+    if 2 * near as i32 <= HORIZON_X2 || near >= HEIGHT {
+        return None;
+    }
+    let floor = floor_grey(frame);
+    // (row, column sum, columns) of the lowest feet and of those one row above them
+    let (mut low, mut above) = ((0usize, 0usize, 0usize), (0usize, 0usize, 0usize));
+    for x in 0..WIDTH {
+        let Some(row) = foot(frame, floor, x, near) else {
+            continue;
+        };
+        if low.2 == 0 || row > low.0 + 1 {
+            (low, above) = ((row, x, 1), (row - 1, 0, 0));
+        } else if row == low.0 + 1 {
+            (low, above) = ((row, x, 1), low);
+        } else if row == low.0 {
+            low = (row, low.1 + x, low.2 + 1);
+        } else if row + 1 == low.0 {
+            above = (row, above.1 + x, above.2 + 1);
+        }
+    }
+    let n = low.2 + above.2;
+    (n > 0).then(|| ((low.1 + above.1 + n / 2) / n) as u8)
+}
+
+/// The foot of column `x` if it lies inside the robot's path at or below `near`: the lowest
+/// run of [`FOOT_ROWS`] rows that differ from `floor`, scanning up from the bottom only as far
+/// as the path reaches in this column (the lateral offset `h·(x − 49)/(row − 35.5)` of a foot
+/// grows as it rises towards the horizon).
+fn foot(frame: &[u8; PIXELS], floor: i32, x: usize, near: usize) -> Option<usize> {
+    // in the path: |2h·(x − 49)| ≤ PATH_HALF_WIDTH_MM·(2·row − 71)
+    let offset = (2 * CAMERA_HEIGHT_MM * (x as i32 - (WIDTH as i32 - 1) / 2)).unsigned_abs();
+    let width = PATH_HALF_WIDTH_MM as u32;
+    let top = ((offset.div_ceil(width) as i32 + HORIZON_X2 + 1) / 2) as usize;
+    let mut run = 0;
+    (near.max(top)..HEIGHT).rev().find_map(|y| {
+        let differs = (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
+        run = if differs { run + 1 } else { 0 };
+        (run == FOOT_ROWS).then_some(y + FOOT_ROWS - 1)
+    })
+}
+
+/// Median grey of [`FLOOR_SAMPLE`] bottom-row pixels spread over its middle 40 columns.
+fn floor_grey(frame: &[u8; PIXELS]) -> i32 {
+    let bottom = (HEIGHT - 1) * WIDTH + WIDTH / 2;
+    let mut sample = [0u8; FLOOR_SAMPLE];
+    for (k, s) in sample.iter_mut().enumerate() {
+        // columns 29, 39, 49, 59, 69
+        *s = frame[bottom + 10 * k - 10 * (FLOOR_SAMPLE / 2)];
+    }
+    sample.sort_unstable();
+    i32::from(sample[FLOOR_SAMPLE / 2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const FLOOR: u8 = 110;
+
+    /// A floor everywhere below the horizon, above it a wall of `wall` grey whose foot is at
+    /// `foot` in the columns `cols`, sky elsewhere.
+    fn scene(foot: usize, cols: core::ops::Range<usize>, wall: u8) -> [u8; PIXELS] {
+        let mut f = [FLOOR; PIXELS];
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                if y <= foot && cols.contains(&x) {
+                    f[y * WIDTH + x] = wall;
+                } else if y < 36 {
+                    f[y * WIDTH + x] = 200;
+                }
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn a_wall_close_ahead_is_found_and_a_far_one_is_not() {
+        // foot at row 55: 20·70/19.5 ≈ 72 mm from the camera
+        assert_eq!(obstacle_ahead(&scene(55, 0..WIDTH, 40), 52), Some(49));
+        // foot at row 45: ≈ 147 mm
+        assert_eq!(obstacle_ahead(&scene(45, 0..WIDTH, 40), 52), None);
+        // a bright wall is found as well as a dark one
+        assert!(obstacle_ahead(&scene(60, 0..WIDTH, 220), 52).is_some());
+    }
+
+    #[test]
+    fn only_the_robots_path_counts() {
+        // a post 40 columns to the left at row 55: 20·40/19.5 ≈ 41 mm to the side
+        assert_eq!(obstacle_ahead(&scene(55, 5..12, 40), 52), None);
+        // the same post 8 columns to the right: ≈ 8 mm, in the path
+        assert_eq!(obstacle_ahead(&scene(55, 55..60, 40), 52), Some(57));
+        // of two in the path the nearer (lower foot) wins
+        let mut f = scene(55, 40..45, 40);
+        for y in 0..=62 {
+            for x in 52..56 {
+                f[y * WIDTH + x] = 30;
+            }
+        }
+        assert_eq!(obstacle_ahead(&f, 52), Some(54));
+    }
+
+    #[test]
+    fn a_bare_floor_noise_and_the_off_switch_find_nothing() {
+        let bare = scene(0, 0..0, 0);
+        assert_eq!(obstacle_ahead(&bare, 52), None);
+        // noise within the tolerance
+        let mut noisy = bare;
+        for (i, p) in noisy.iter_mut().enumerate().skip(36 * WIDTH) {
+            *p = FLOOR + (i % 5) as u8 * 2;
+        }
+        assert_eq!(obstacle_ahead(&noisy, 52), None);
+        // off, or a row at or above the horizon
+        let wall = scene(60, 0..WIDTH, 40);
+        assert_eq!(obstacle_ahead(&wall, 0), None);
+        assert_eq!(obstacle_ahead(&wall, 35), None);
+        assert_eq!(obstacle_ahead(&wall, 80), None);
+    }
+
+    #[test]
+    fn a_single_odd_row_is_not_a_foot() {
+        let mut f = scene(0, 0..0, 0);
+        for x in 0..WIDTH {
+            f[60 * WIDTH + x] = 20; // a line on the floor
+        }
+        assert_eq!(obstacle_ahead(&f, 52), None);
+    }
+}
