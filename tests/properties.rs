@@ -297,6 +297,14 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         );
         return Ok(());
     }
+    // `Params::band_row`: driving, no field centred above the band responds
+    if driving {
+        prop_assert!(
+            out.afs.iter().all(|a| a.y >= p.band_row || a.lplc2 == 0),
+            "{}",
+            ctx()
+        );
+    }
     let mut ids: Vec<u32> = out.afs.iter().map(|a| a.id).collect();
     ids.sort_unstable();
     ids.dedup();
@@ -351,7 +359,6 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         // line's column when it alone alerts.
         prop_assert!((0.0..=98.0).contains(&x), "{}", ctx());
         if !floor_alert {
-            prop_assert!((0.0..=98.0).contains(&x), "{}", ctx());
             let xs = out
                 .afs
                 .iter()

@@ -10,6 +10,10 @@
 //! the robot's path count: `|h·(x − 49)/(row − 35.5)|`, the lateral offset of the foot, within
 //! [`PATH_HALF_WIDTH_MM`]. Integer arithmetic, one pass over the lower half of the frame.
 //!
+//! Blind spot: an obstacle that covers the bottom row's middle (its foot below the frame, the
+//! robot's centre within ≈ 57 mm of a wall) sets the floor's grey itself and is not found; the
+//! blocked-way test (`Params::blocked_change`) covers a robot that close.
+//!
 //! The geometry is the arena's camera ([`CAMERA_HEIGHT_MM`], the horizon at row 35.5, 70° over
 //! 99 columns); the firmware's camera is taken to match it (`docs/hardware.md`).
 
@@ -72,8 +76,10 @@ fn foot(frame: &[u8; PIXELS], floor: i32, x: usize, near: usize) -> Option<usize
     let offset = (2 * CAMERA_HEIGHT_MM * (x as i32 - (WIDTH as i32 - 1) / 2)).unsigned_abs();
     let width = PATH_HALF_WIDTH_MM as u32;
     let top = ((offset.div_ceil(width) as i32 + HORIZON_X2 + 1) / 2) as usize;
+    // a run's lower row is the foot: scan one row higher than the lowest foot allowed
+    let lowest_foot = near.max(top);
     let mut run = 0;
-    (near.max(top)..HEIGHT).rev().find_map(|y| {
+    (lowest_foot + 1 - FOOT_ROWS..HEIGHT).rev().find_map(|y| {
         let differs = (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
         run = if differs { run + 1 } else { 0 };
         (run == FOOT_ROWS).then_some(y + FOOT_ROWS - 1)
@@ -112,6 +118,12 @@ mod tests {
             }
         }
         f
+    }
+
+    #[test]
+    fn a_foot_exactly_on_the_row_counts() {
+        assert_eq!(obstacle_ahead(&scene(55, 0..WIDTH, 40), 55), Some(49));
+        assert_eq!(obstacle_ahead(&scene(55, 0..WIDTH, 40), 56), None);
     }
 
     #[test]

@@ -115,7 +115,8 @@ pub struct Params {
     /// meets the floor) lies at or below this row inside the robot's path alerts
     /// ([`crate::model::floor`]): with the camera at a fixed height over a flat floor, the row
     /// is the distance. 0 turns it off (the paper and, for now, the default; 52 measured in
-    /// `docs/experiments.md`). See `docs/model.md`, "Closed-loop mechanisms".
+    /// `docs/experiments.md`); rows at or above the horizon (≤ 35) find nothing either. See
+    /// `docs/model.md`, "Closed-loop mechanisms".
     pub floor_row: u8,
 }
 

@@ -68,8 +68,11 @@ impl<H: HeadingEstimator> Control<H> {
         (c, frames)
     }
 
-    /// The frames that stop the motors now (a fault between frames).
+    /// The frames that stop the motors now (a fault between frames). The robot no longer
+    /// drives: [`Control::last_forward_mm_s`] reads 0 from here on (a network parked before
+    /// the stop hears it after the next frame's control step).
     pub fn stop(&mut self) -> MotorFrames {
+        self.forward_mm_s = 0.0;
         self.motors.update(false, 0.0, 0.0)
     }
 
