@@ -601,4 +601,15 @@ mod tests {
         assert!((bearing_of_column(column_of_bearing(12.5)) - 12.5).abs() < 1e-9);
         assert_eq!(HFOV_DEG, 70.0);
     }
+
+    /// The model assumes this camera in two places (`derotate::FOCAL_PX` for turns,
+    /// `floor::CAMERA_HEIGHT_MM` and the horizon at row 35.5 for the floor line): the
+    /// simulator must render what the model assumes.
+    #[test]
+    fn the_model_assumes_the_camera_this_renders() {
+        use alvs_tasks::model::{derotate, floor};
+        assert!((f64::from(derotate::FOCAL_PX) - FOCAL_PX).abs() < 1e-4);
+        assert_eq!(CAMERA_HEIGHT_MM, f64::from(floor::CAMERA_HEIGHT_MM));
+        assert_eq!(2.0 * CENTRE_ROW, (alvs_tasks::HEIGHT - 1) as f64);
+    }
 }

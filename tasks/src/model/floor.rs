@@ -15,7 +15,8 @@
 //! blocked-way test (`Params::blocked_change`) covers a robot that close.
 //!
 //! The geometry is the arena's camera ([`CAMERA_HEIGHT_MM`], the horizon at row 35.5, 70° over
-//! 99 columns); the firmware's camera is taken to match it (`docs/hardware.md`).
+//! 99 columns; a host test holds the renderer to it). The board's camera height is not known
+//! (`docs/hardware.md`, "Geometry"): measure it before turning this on in the firmware.
 
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
 
