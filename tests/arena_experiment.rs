@@ -2,8 +2,6 @@
 //! seed whatever the number of threads, ALVS and LGMD2 start from the same poses, the JSON has
 //! the documented keys, and the command line helps and fails cleanly.
 
-use std::path::PathBuf;
-use std::process::Command;
 use std::sync::OnceLock;
 
 use alvs_host::arena::contacts::{ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM};
@@ -14,6 +12,9 @@ use alvs_host::experiments::arena::{
 };
 use alvs_host::experiments::Report;
 use serde_json::Value;
+
+mod common;
+use common::{alvs, read_json, succeed, tmp};
 
 /// 0.5 simulated minutes: 900 camera frames per robot.
 fn short_config() -> ArenaConfig {
@@ -417,37 +418,21 @@ fn json_has_the_documented_keys() {
     }
 }
 
-fn alvs() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_alvs"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("alvs-arena-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 #[test]
 fn cli_model_paper_runs_the_papers_perception_and_motion() {
     let d = tmp("paper");
     let run = |extra: &[&str]| {
         let json = d.join("arena.json");
-        let out = alvs()
-            .args(["arena", "--minutes", "0.02", "--controller", "alvs"])
-            .args(["--background", "plain:128", "--model", "paper", "--json"])
-            .arg(&json)
-            .arg("--png")
-            .arg(d.join("png"))
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        succeed(
+            alvs()
+                .args(["arena", "--minutes", "0.02", "--controller", "alvs"])
+                .args(["--background", "plain:128", "--model", "paper", "--json"])
+                .arg(&json)
+                .arg("--png")
+                .arg(d.join("png"))
+                .args(extra),
         );
-        let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        let v = read_json(&json);
         (v["model"].clone(), v["fsm"].clone())
     };
     assert_eq!(run(&[]), ("paper".into(), "paper".into()));
@@ -494,7 +479,7 @@ fn cli_writes_table_json_and_pictures() {
         stdout.contains("alvs") && stdout.contains("lgmd2"),
         "{stdout}"
     );
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     assert!(v["alvs"]["encounters"].is_u64() && v["lgmd2"]["collisions"].is_u64());
     assert_eq!(v["trials"][0]["background"], "stripes:40");
     for png in ["alvs_stripes-40.png", "lgmd2_stripes-40.png", "summary.png"] {

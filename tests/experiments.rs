@@ -3,8 +3,6 @@
 //! whatever the number of threads, the documented JSON, and a command line that helps and
 //! fails cleanly. (Experiment 4, `arena`, is `arena_experiment.rs`.)
 
-use std::process::Command;
-
 use alvs_host::arena::Kind;
 use alvs_host::experiments::encounter::Side;
 use alvs_host::experiments::evasion::{self, EvasionConfig};
@@ -13,6 +11,9 @@ use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
 use alvs_tasks::model::fsm::FsmParams;
+
+mod common;
+use common::{alvs, read_json, succeed};
 
 fn alvs_only() -> Vec<Kind> {
     vec![Kind::Alvs]
@@ -238,32 +239,23 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
     );
 }
 
-fn alvs() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_alvs"))
-}
-
 #[test]
 fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     let dir = std::env::temp_dir().join(format!("alvs-exp-cli-{}", std::process::id()));
     let json = dir.join("ev.json");
     std::fs::create_dir_all(&dir).unwrap();
     let trace = dir.join("ev.csv");
-    let out = alvs()
-        .args(["evasion", "--controller", "alvs", "--jobs", "2", "--json"])
-        .arg(&json)
-        .arg("--png")
-        .arg(&dir)
-        .arg("--trace")
-        .arg(&trace)
-        .args(["--fsm", "settle_frames=2"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeed(
+        alvs()
+            .args(["evasion", "--controller", "alvs", "--jobs", "2", "--json"])
+            .arg(&json)
+            .arg("--png")
+            .arg(&dir)
+            .arg("--trace")
+            .arg(&trace)
+            .args(["--fsm", "settle_frames=2"]),
     );
-    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     assert_eq!(v["alvs"]["angles"], 9);
     assert!(dir.join("evasion.png").exists());
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -1,22 +1,11 @@
 //! `alvs replay` end to end: one JSON object per frame, pictures, and one clear error line with
 //! a non-zero exit for bad input.
 
-use std::path::PathBuf;
-use std::process::Command;
-
 use alvs_host::clip::to_pgm;
 use alvs_host::scenes::demo_scenes;
 
-fn alvs() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_alvs"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("alvs-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common;
+use common::{alvs, succeed, tmp};
 
 #[test]
 fn replay_prints_one_json_object_per_frame_and_draws() {
@@ -25,17 +14,12 @@ fn replay_prints_one_json_object_per_frame_and_draws() {
     let frames = scene.frames();
     let clip = d.join("approach.y8");
     std::fs::write(&clip, frames.concat()).unwrap();
-    let out = alvs()
-        .arg("replay")
-        .arg(&clip)
-        .arg("--png")
-        .arg(d.join("png"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeed(
+        alvs()
+            .arg("replay")
+            .arg(&clip)
+            .arg("--png")
+            .arg(d.join("png")),
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<serde_json::Value> = text
