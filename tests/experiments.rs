@@ -11,6 +11,7 @@ use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
 use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::Params;
 
 mod common;
 use common::{alvs, read_json, succeed};
@@ -214,12 +215,20 @@ fn swarm_robots_spin_and_escaping_robots_do_not() {
 
 /// Paper Fig. 7: six robots spinning on approach draw together. Each spin turns a robot half
 /// round, away from what it saw; near others it stops and turns again and again, alone it runs
-/// on, so the group gathers. With a full turn per spin (360°/s) it does not.
+/// on, so the group gathers. With a full turn per spin (360°/s) it does not. The gathering
+/// needs the robots to see their own forward flow and nothing else while they drive
+/// (`Params::band_row` and `floor_row` 0): with the default's band and floor line they wander
+/// on and the spread stays (330 → 301 mm, docs/experiments.md, "Swarm").
 #[test]
 fn a_spinning_swarm_clusters_over_five_minutes() {
     let spin = |deg_s: f32| {
         let config = SwarmConfig {
             controllers: vec![Kind::Swarm],
+            params: Params {
+                band_row: 0,
+                floor_row: 0,
+                ..Params::default()
+            },
             fsm: FsmParams {
                 spin_deg_s: deg_s,
                 ..FsmParams::default()
@@ -280,9 +289,10 @@ fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     assert!((d(first[0]) - 496.7).abs() < 0.2, "{:?}", first[0]);
     let alerts = rows.iter().filter(|r| r[8] == "1");
     assert!(alerts.clone().count() >= 9);
-    assert!(alerts
-        .clone()
-        .all(|r| r[10].parse::<u32>().unwrap() > 0 && !r[11].is_empty()));
+    // every alert has a threat column; a field's alert has a response (the floor line's,
+    // at ΣLPLC2 0, none)
+    assert!(alerts.clone().all(|r| !r[11].is_empty()));
+    assert!(alerts.clone().any(|r| r[10].parse::<u32>().unwrap() > 0));
     // bad values of --fsm fail with one line naming the parameter
     let out = alvs()
         .args(["evasion", "--fsm", "settle_frames=-1"])

@@ -126,7 +126,7 @@ struct CommonArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade.
+    /// escape_saccade saccade_gain.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -327,7 +327,7 @@ struct ArenaArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade.
+    /// escape_saccade saccade_gain.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -351,7 +351,7 @@ struct ModelArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade.
+    /// escape_saccade saccade_gain.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

@@ -78,21 +78,25 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
             proptest::collection::vec(any::<u8>(), VIEW_CELLS),
             any::<u8>(),
         )),
+        any::<bool>(),
     )
-        .prop_map(|(sum, s, x, alert, short_mode, tl, ts, view)| Visuomotor {
-            lplc2_sum: sum,
-            strength: s,
-            threat_x: x,
-            alert,
-            short_mode,
-            theta_long: tl,
-            theta_short: ts.map(|(a, b)| [a, b]),
-            view: view.map(|(v, level)| {
-                let mut cells = [0u8; VIEW_CELLS];
-                cells.copy_from_slice(&v);
-                (cells, level)
-            }),
-        })
+        .prop_map(
+            |(sum, s, x, alert, short_mode, tl, ts, view, obstacle)| Visuomotor {
+                lplc2_sum: sum,
+                strength: s,
+                threat_x: x,
+                alert,
+                short_mode,
+                theta_long: tl,
+                theta_short: ts.map(|(a, b)| [a, b]),
+                view: view.map(|(v, level)| {
+                    let mut cells = [0u8; VIEW_CELLS];
+                    cells.copy_from_slice(&v);
+                    (cells, level)
+                }),
+                obstacle,
+            },
+        )
 }
 
 proptest! {
@@ -128,7 +132,7 @@ proptest! {
     /// Nonsensical parameters must not panic either.
     #[test]
     fn any_params_do_not_panic(
-        vals in proptest::collection::vec(any_f32(), 13),
+        vals in proptest::collection::vec(any_f32(), 14),
         counts in proptest::collection::vec(any::<u32>(), 10),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
@@ -156,6 +160,7 @@ proptest! {
             takeoff_drive: vals[12],
             live_strength: counts[8],
             escape_saccade: counts[9],
+            saccade_gain: vals[13],
         };
         let mut f = Fsm::new(p, Behaviour::Escape);
         for (vm, h) in frames {

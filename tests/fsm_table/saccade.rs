@@ -101,3 +101,41 @@ fn a_saccade_turns_in_place_while_a_takeoff_drives() {
     assert_eq!(c.state, State::LongTakeoff);
     assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3, "{c:?}");
 }
+
+/// The floor line's obstacle as the network reports it on a frame no field alerts on
+/// (`Visuomotor::ahead`): an alert at column `x`, ΣLPLC2 0.
+fn obstacle(x: u8) -> Visuomotor {
+    let mut vm = quiet();
+    vm.ahead(x, &Params::default());
+    assert!(vm.obstacle && vm.alert && !vm.short_mode && vm.lplc2_sum == 0);
+    vm
+}
+
+#[test]
+fn an_obstacle_close_ahead_cuts_the_escape_short_with_a_saccade() {
+    for p in [params(), with_saccade()] {
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        let sp = f.step(&long(RIGHT_X), 0.0).heading_setpoint_deg;
+        assert_eq!(f.step(&quiet(), sp).state, State::Escape);
+        // a field's alert in the escape's first second is ignored ...
+        assert_eq!(f.step(&long(RIGHT_X), sp).state, State::Escape);
+        // ... an obstacle on the right of the path is not: a saccade in place to θ¹, left
+        let vm = obstacle(RIGHT_X);
+        let [t1, _] = vm.theta_short.unwrap();
+        assert!(t1 < -45.0 && t1 > -90.0, "{t1}");
+        let c = f.step(&vm, sp);
+        assert_eq!((c.state, c.short_phase), (State::LongTakeoff, None));
+        assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
+        assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3);
+        // aligned: the escape goes on at the new heading
+        let c = f.step(&quiet(), wrap_deg(sp + t1));
+        assert_eq!(c.state, State::Escape);
+    }
+    // wandering, an obstacle is an alert like any other: a long takeoff 180° from it
+    let mut f = in_wander(0.0);
+    let vm = obstacle(RIGHT_X);
+    let c = f.step(&vm, 0.0);
+    assert_eq!(c.state, State::LongTakeoff);
+    assert!(err(c.heading_setpoint_deg, vm.theta_long.unwrap()) < 1e-3);
+}

@@ -22,8 +22,10 @@ use crate::frame::{HEIGHT, PIXELS, WIDTH};
 
 /// Height of the camera above the floor, mm.
 pub const CAMERA_HEIGHT_MM: i32 = 20;
-/// Half the width of the path the robot sweeps (its 21 mm radius and a margin), mm.
-pub const PATH_HALF_WIDTH_MM: i32 = 30;
+/// Half the width of the path the robot sweeps, mm: its 21 mm radius and one radius of
+/// clearance, the gap below which the paper counts a wall collision (centre within one
+/// diameter). 30 (radius and a margin) let robots graze walls (`docs/experiments.md`).
+pub const PATH_HALF_WIDTH_MM: i32 = 42;
 /// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2).
 pub const FLOOR_TOL: i32 = 12;
 /// Consecutive rows, bottom up, that must differ from the floor.
@@ -139,8 +141,10 @@ mod tests {
 
     #[test]
     fn only_the_robots_path_counts() {
-        // a post 40 columns to the left at row 55: 20·40/19.5 ≈ 41 mm to the side
-        assert_eq!(obstacle_ahead(&scene(55, 5..12, 40), 52), None);
+        // a post 45-49 columns to the left at row 55: 46-50 mm to the side
+        assert_eq!(obstacle_ahead(&scene(55, 0..5, 40), 52), None);
+        // 38 columns to the left, 39 mm: inside the body's radius and its clearance
+        assert_eq!(obstacle_ahead(&scene(55, 11..12, 40), 52), Some(11));
         // the same post 8 columns to the right: ≈ 8 mm, in the path
         assert_eq!(obstacle_ahead(&scene(55, 55..60, 40), 52), Some(57));
         // of two in the path the nearer (lower foot) wins

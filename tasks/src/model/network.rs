@@ -385,7 +385,7 @@ impl Network {
         if p.blocked_change > 0 {
             vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
         }
-        if self.driving && p.floor_row > 0 && !silent && !vm.alert {
+        if self.driving && p.floor_row > 0 && !silent {
             if let Some(x) = self.floor_line() {
                 vm.ahead(x, &p);
             }

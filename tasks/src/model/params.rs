@@ -164,6 +164,8 @@ impl Params {
         q_arms: 3,
         q_grow_pct: 50,
         t_a_quiet: 30,
+        band_row: 27,
+        floor_row: 52,
         ..Params::PAPER
     };
 
@@ -522,7 +524,7 @@ mod tests {
                 alvs.band_row,
                 alvs.floor_row
             ),
-            (4, 50, 2, 1, 30, 50, 3, 30, 0, 0)
+            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52)
         );
         // everything else is the paper's
         assert_eq!(
@@ -535,6 +537,8 @@ mod tests {
                 q_grow_pct: 0,
                 q_arms: 4,
                 t_a_quiet: 0,
+                band_row: 0,
+                floor_row: 0,
                 ..alvs
             },
             paper

@@ -30,14 +30,21 @@ pub struct Visuomotor {
     /// The frame's coarse view for the blocked-way test, with its threshold
     /// (`Params::blocked_change`); `None` when that mechanism is off (the paper's model).
     pub view: Option<(View, u8)>,
+    /// The floor line (`Params::floor_row`) found an obstacle close ahead in the robot's path
+    /// on this frame: unlike a field's alert, a distance, so the FSM acts on it at once.
+    pub obstacle: bool,
 }
 
 impl Visuomotor {
-    /// An obstacle close ahead in column `x` (`Params::floor_row`), on a frame no field
-    /// alerts on: an alert whose threat is there, at the lowest strength and without the short
-    /// mode (ΣLPLC2 stays 0).
+    /// An obstacle close ahead in column `x` (`Params::floor_row`). On a frame no field
+    /// alerts on, also an alert whose threat is there, at the lowest strength and without the
+    /// short mode (ΣLPLC2 stays 0); otherwise the fields' threat stands.
     #[inline(always)]
     pub fn ahead(&mut self, x: u8, p: &Params) {
+        self.obstacle = true;
+        if self.alert {
+            return;
+        }
         let x = f32::from(x);
         self.alert = true;
         self.threat_x = Some(x);
@@ -69,6 +76,7 @@ impl Visuomotor {
             theta_long: threat_x.map(|x| theta_long(x, p.alpha)),
             theta_short: threat_x.map(|x| theta_short(x, p.alpha)),
             view: None,
+            obstacle: false,
         }
     }
 }
