@@ -10,24 +10,35 @@ fn with_saccade() -> FsmParams {
     }
 }
 
-#[test]
-fn short_mode_during_an_escape_starts_a_saccade_to_theta_1() {
-    // into an escape at heading `h` (the fixture's threat was on the right)
-    let mut f = Fsm::new(with_saccade(), Behaviour::Escape);
-    let h = 20.0;
+/// An FSM escaping from heading `h` (from a threat on the right); its set-point.
+fn escaping(p: FsmParams, h: f32) -> (Fsm, f32) {
+    let mut f = Fsm::new(p, Behaviour::Escape);
     f.step(&quiet(), h);
     let sp = f.step(&long(RIGHT_X), h).heading_setpoint_deg;
     assert_eq!(f.step(&quiet(), sp).state, State::Escape);
-    // a fierce threat on the right of the new heading: θ¹ = α·(88 − 49) − 90 ≈ −62°, left
-    let vm = short(RIGHT_X);
+    (f, sp)
+}
+
+/// `c`, the answer at heading `sp` to `vm` (something on the right), is a saccade in place to
+/// θ¹ of `vm`: 90° away from it, to the left. Returns θ¹.
+fn saccade_left(c: &MotorCommand, sp: f32, vm: &Visuomotor) -> f32 {
+    // θ¹ = α·(88 − 49) − 90 ≈ −62°
     let [t1, _] = vm.theta_short.unwrap();
     assert!(t1 < -45.0 && t1 > -90.0, "{t1}");
-    let c = f.step(&vm, sp);
     assert_eq!((c.state, c.short_phase), (State::LongTakeoff, None));
     assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
     // in place: the wheels turn left against each other, no retreat
     assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3);
     assert!(c.left_mm_s < 0.0 && c.right_mm_s > 0.0);
+    t1
+}
+
+#[test]
+fn short_mode_during_an_escape_starts_a_saccade_to_theta_1() {
+    let (mut f, sp) = escaping(with_saccade(), 20.0);
+    // a fierce threat on the right of the new heading
+    let vm = short(RIGHT_X);
+    let t1 = saccade_left(&f.step(&vm, sp), sp, &vm);
     // aligned: the escape goes on at the saccade's heading
     let c = f.step(&quiet(), wrap_deg(sp + t1));
     assert_eq!(c.state, State::Escape);
@@ -114,20 +125,12 @@ fn obstacle(x: u8) -> Visuomotor {
 #[test]
 fn an_obstacle_close_ahead_cuts_the_escape_short_with_a_saccade() {
     for p in [params(), with_saccade()] {
-        let mut f = Fsm::new(p, Behaviour::Escape);
-        f.step(&quiet(), 0.0);
-        let sp = f.step(&long(RIGHT_X), 0.0).heading_setpoint_deg;
-        assert_eq!(f.step(&quiet(), sp).state, State::Escape);
+        let (mut f, sp) = escaping(p, 0.0);
         // a field's alert in the escape's first second is ignored ...
         assert_eq!(f.step(&long(RIGHT_X), sp).state, State::Escape);
-        // ... an obstacle on the right of the path is not: a saccade in place to θ¹, left
+        // ... an obstacle on the right of the path is not
         let vm = obstacle(RIGHT_X);
-        let [t1, _] = vm.theta_short.unwrap();
-        assert!(t1 < -45.0 && t1 > -90.0, "{t1}");
-        let c = f.step(&vm, sp);
-        assert_eq!((c.state, c.short_phase), (State::LongTakeoff, None));
-        assert!(err(c.heading_setpoint_deg, wrap_deg(sp + t1)) < 1e-3);
-        assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3);
+        let t1 = saccade_left(&f.step(&vm, sp), sp, &vm);
         // aligned: the escape goes on at the new heading
         let c = f.step(&quiet(), wrap_deg(sp + t1));
         assert_eq!(c.state, State::Escape);
