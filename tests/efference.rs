@@ -157,6 +157,11 @@ fn a_quiet_scene_lowers_the_attention_threshold() {
 /// the number of alert frames of a network told before each frame that it drives at
 /// `forward_mm_s`.
 fn looming_alerts(cy: usize, forward_mm_s: f32) -> u32 {
+    looming(49, cy, forward_mm_s).0
+}
+
+/// The same square centred at `(cx, cy)`: (alert frames, short-mode frames).
+fn looming(cx: usize, cy: usize, forward_mm_s: f32) -> (u32, u32) {
     use alvs_tasks::{HEIGHT, PIXELS, WIDTH};
     let mut net = Network::new(Params {
         band_row: 27,
@@ -164,19 +169,37 @@ fn looming_alerts(cy: usize, forward_mm_s: f32) -> u32 {
         ..Params::ALVS
     })
     .unwrap();
-    let mut alerts = 0;
+    let (mut alerts, mut short) = (0, 0);
     for i in 0..24 {
         let half = 2 + (18 * i) / 23;
         let mut f = [128u8; PIXELS];
         for y in cy.saturating_sub(half)..(cy + half).min(HEIGHT) {
-            for x in 49 - half..(49 + half).min(WIDTH) {
+            for x in cx.saturating_sub(half)..(cx + half).min(WIDTH) {
                 f[y * WIDTH + x] = 30;
             }
         }
         net.driving(forward_mm_s);
-        alerts += u32::from(net.step(&f).vm.alert);
+        let vm = net.step(&f).vm;
+        alerts += u32::from(vm.alert);
+        short += u32::from(vm.short_mode);
     }
-    alerts
+    (alerts, short)
+}
+
+#[test]
+fn driving_only_a_threat_in_the_path_is_imminent() {
+    // `Params::short_cols` 23: the square 33 columns right of the centre, then in the path
+    let (off_standing, off_driving) = (looming(82, 40, 0.0), looming(82, 40, 100.0));
+    let (on_standing, on_driving) = (looming(60, 40, 0.0), looming(60, 40, 100.0));
+    println!("off {off_standing:?} -> {off_driving:?}, on {on_standing:?} -> {on_driving:?}");
+    assert!(
+        off_standing.1 >= 2,
+        "standing, the short mode: {off_standing:?}"
+    );
+    assert_eq!(off_driving.1, 0, "driving, not off the path");
+    assert_eq!(off_driving.0, off_standing.0, "the alerts stay");
+    assert!(on_standing.1 >= 2, "{on_standing:?}");
+    assert_eq!(on_driving, on_standing, "in the path nothing changes");
 }
 
 #[test]

@@ -218,10 +218,11 @@ fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
     );
-    // the efference copy of forward motion's band, the floor line
+    // the efference copy of forward motion's band, the floor line, the path's columns
     let fifth = (
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
+        prop_oneof![1 => Just(0u8), 1 => 0u8..=49],
     );
     let random = (first, second, third, fourth, fifth).prop_map(
         |(
@@ -229,7 +230,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
-            (band_row, floor_row),
+            (band_row, floor_row, short_cols),
         )| Params {
             w,
             n,
@@ -258,6 +259,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             t_a_quiet,
             band_row,
             floor_row,
+            short_cols,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -337,11 +339,17 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         ctx()
     );
     prop_assert!(vm.alert || vm.lplc2_sum == 0, "{}", ctx());
-    if p.adapt_frames == 0 {
+    // the floor line reports only for a driving robot
+    prop_assert!(!vm.obstacle || (driving && p.floor_row > 0), "{}", ctx());
+    let in_path = |x: f32| (x - 49.0).abs() <= f32::from(p.short_cols);
+    let off_path = driving && p.short_cols > 0 && !vm.threat_x.is_some_and(in_path);
+    if p.adapt_frames == 0 && !off_path {
         prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{}", ctx());
     } else {
-        // motion adaptation can only hold the short mode back
+        // motion adaptation, and a threat off the path of a driving robot
+        // (`Params::short_cols`), can only hold the short mode back
         prop_assert!(!vm.short_mode || vm.lplc2_sum > p.t_s, "{}", ctx());
+        prop_assert!(!vm.short_mode || !off_path, "{}", ctx());
     }
     prop_assert!(!vm.short_mode || vm.alert, "{}", ctx());
     prop_assert!(

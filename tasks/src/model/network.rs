@@ -12,7 +12,7 @@
 //! ([`Network::push_row`] then [`Network::end_frame`]); both run the same code and give the
 //! same output. Streaming is what lets the firmware keep no frame buffer (docs/firmware.md).
 
-use crate::frame::{Frame, WIDTH};
+use crate::frame::{Frame, CENTRE_X, WIDTH};
 use crate::model::attention::{self, Fields};
 use crate::model::derotate::Turn;
 use crate::model::floor;
@@ -381,6 +381,11 @@ impl Network {
             let sum = vm.lplc2_sum as f32;
             vm.short_mode &= sum > ADAPT_RATIO * self.adapted;
             self.adapted += (sum - self.adapted) / f32::from(p.adapt_frames);
+        }
+        if self.driving && p.short_cols > 0 {
+            // `Params::short_cols`: driving, only a threat in the path is imminent
+            let cols = f32::from(p.short_cols);
+            vm.short_mode &= vm.threat_x.is_some_and(|x| (x - CENTRE_X).abs() <= cols);
         }
         if p.blocked_change > 0 {
             vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));

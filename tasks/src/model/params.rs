@@ -108,16 +108,23 @@ pub struct Params {
     /// copy, [`crate::Network::driving`]): driving, the expansion of the scene above the
     /// body's height is the robot's own translation, and anything that can touch a ground robot
     /// also reaches into the rows below. Standing, every field responds. 0 turns it off (the
-    /// paper and, for now, the default; 27 measured in `docs/experiments.md`). See
-    /// `docs/model.md`, "Closed-loop mechanisms".
+    /// paper; the default 27, measured in `docs/experiments.md`). See `docs/model.md`,
+    /// "Closed-loop mechanisms".
     pub band_row: u8,
-    /// While the robot drives forward and no field alerts, an obstacle whose foot (where it
-    /// meets the floor) lies at or below this row inside the robot's path alerts
-    /// ([`crate::model::floor`]): with the camera at a fixed height over a flat floor, the row
-    /// is the distance. 0 turns it off (the paper and, for now, the default; 52 measured in
+    /// While the robot drives forward, an obstacle whose foot (where it meets the floor) lies
+    /// at or below this row inside the robot's path is reported ([`crate::model::floor`]),
+    /// and alerts on a frame no field alerts on: with the camera at a fixed height over a flat
+    /// floor, the row is the distance. 0 turns it off (the paper; the default 52, measured in
     /// `docs/experiments.md`); rows at or above the horizon (≤ 35) find nothing either. See
     /// `docs/model.md`, "Closed-loop mechanisms".
     pub floor_row: u8,
+    /// While the robot drives forward, the short mode needs the threat's `X̄` within this many
+    /// columns of the centre: driving, everything beside the path expands with the robot's
+    /// own translation, and only what lies in the path can be imminent. 23 is the path's
+    /// half-width (42 mm, [`crate::model::floor::PATH_HALF_WIDTH_MM`]) seen at the robots'
+    /// encounter distance (126 mm): 70 · 42 / 126. Alerts off the path still start a long
+    /// takeoff. 0 turns it off (the paper). See `docs/model.md`, "Closed-loop mechanisms".
+    pub short_cols: u8,
 }
 
 impl Params {
@@ -150,6 +157,7 @@ impl Params {
         t_a_quiet: 0,
         band_row: 0,
         floor_row: 0,
+        short_cols: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -166,6 +174,7 @@ impl Params {
         t_a_quiet: 30,
         band_row: 27,
         floor_row: 52,
+        short_cols: 23,
         ..Params::PAPER
     };
 
@@ -190,7 +199,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 27] = [
+    pub const NAMES: [&'static str; 28] = [
         "w",
         "n",
         "r_af",
@@ -218,12 +227,13 @@ impl Params {
         "t_a_quiet",
         "band_row",
         "floor_row",
+        "short_cols",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 27] = [
+    pub const RANGES: [Range; 28] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -251,6 +261,7 @@ impl Params {
         Range::Int(0, u32::MAX as i64),
         Range::Int(0, HEIGHT as i64 - 1),
         Range::Int(0, HEIGHT as i64 - 1),
+        Range::Int(0, 49),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -280,6 +291,7 @@ impl Params {
         check_int("t_a_quiet", self.t_a_quiet.into())?;
         check_int("band_row", self.band_row.into())?;
         check_int("floor_row", self.floor_row.into())?;
+        check_int("short_cols", self.short_cols.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -333,8 +345,9 @@ impl Params {
             "q_grow_pct" => p.q_grow_pct = int(name, v)?,
             "t_a_quiet" => p.t_a_quiet = int(name, v)?,
             "band_row" => p.band_row = int(name, v)?,
+            "floor_row" => p.floor_row = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.floor_row = int(name, v)?,
+            _ => p.short_cols = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -506,9 +519,10 @@ mod tests {
                 paper.q_arms,
                 paper.t_a_quiet,
                 paper.band_row,
-                paper.floor_row
+                paper.floor_row,
+                paper.short_cols
             ),
-            (0, 0, 0, 0, 0, 0, 4, 0, 0, 0),
+            (0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0),
             "the paper has none"
         );
         assert_eq!(
@@ -522,9 +536,10 @@ mod tests {
                 alvs.q_arms,
                 alvs.t_a_quiet,
                 alvs.band_row,
-                alvs.floor_row
+                alvs.floor_row,
+                alvs.short_cols
             ),
-            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52)
+            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23)
         );
         // everything else is the paper's
         assert_eq!(
@@ -539,6 +554,7 @@ mod tests {
                 t_a_quiet: 0,
                 band_row: 0,
                 floor_row: 0,
+                short_cols: 0,
                 ..alvs
             },
             paper
