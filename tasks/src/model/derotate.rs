@@ -21,15 +21,17 @@
 //! ```
 //!
 //! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
-//! The remap is done in place in two separable passes (rows, then columns) whose visiting
-//! order never reads a pixel already written: `P(t−1)` interpolated between its two nearest
-//! source pixels, the cells (four packed means each) from the nearest one. What came into view has no past:
+//! The remap is done in place in two separable passes (rows, then columns), each reading the
+//! old pixels from a copy of the row or column (the cells' rows: in a visiting order that never
+//! reads a pixel already written): `P(t−1)` interpolated between its two nearest source pixels,
+//! the cells (four packed means each) from the nearest one. What came into view has no past:
 //! the means and delay line there are 0 and `P(t−1)` takes the new frame's pixels
 //! ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so new content is not
 //! mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a turn also moves
 //! it sideways by a few mm; that parallax is not predicted.
 
 use crate::frame::{CENTRE_X as CX, HEIGHT, PIXELS, WIDTH};
+use core::hint::select_unpredictable;
 
 /// Horizontal field of view between the centres of the outermost columns, degrees
 /// (`docs/hardware.md`: the OV7670 lens's ≈ 70° on the 99-column window).
@@ -203,127 +205,131 @@ impl Map {
     /// the column pass. Pixels with no source take `fill`, or, with `fill = None`, the nearest
     /// pixel of their row or column.
     pub fn remap<T: Pixel>(&self, img: &mut [T; PIXELS], fill: Option<T>) {
-        self.rows(img, fill);
+        let Ok(img) = <&mut Rows<T>>::try_from(img.as_chunks_mut::<WIDTH>().0) else {
+            return;
+        };
+        if T::NEAREST {
+            for row in img.iter_mut() {
+                self.row_nearest(row, fill);
+            }
+        } else {
+            let mut old = [img[0][0]; 257];
+            for row in img.iter_mut() {
+                self.row_between(row, &mut old, fill);
+            }
+        }
         for (x, &s) in self.scale.iter().enumerate() {
             column(img, x, i32::from(s), fill);
         }
     }
 
-    /// The row pass. Turning right every source column lies right of its destination
-    /// (`x_old > x`), so visiting left to right never reads a pixel already written (both
-    /// neighbours of a source lie at or right of it); turning left, right to left.
-    fn rows<T: Pixel>(&self, img: &mut [T; PIXELS], fill: Option<T>) {
-        let right = self.right;
-        for row in img.chunks_exact_mut(WIDTH) {
-            let Ok(row) = <&mut [T; WIDTH]>::try_from(row) else {
-                continue;
-            };
-            // without a fill, the nearest column of the old frame: its edge on the side
-            // turned towards (the last one written)
-            let outside = fill.unwrap_or(row[if right { WIDTH - 1 } else { 0 }]);
-            let one = |row: &mut [T; WIDTH], x: usize| {
-                let v = if T::NEAREST {
-                    row.get(usize::from(self.near[x]))
-                        .copied()
-                        .unwrap_or(outside)
-                } else {
-                    let c = self.src[x];
-                    let i = usize::from(c >> 8);
-                    match row.get(i) {
-                        Some(&a) => {
-                            let b = row.get(i + 1).copied().unwrap_or(a);
-                            T::between(a, b, u32::from(c & 0xFF))
-                        }
-                        None => outside,
-                    }
-                };
-                row[x] = v;
-            };
-            if right {
-                for x in 0..WIDTH {
-                    one(row, x);
-                }
-            } else {
-                for x in (0..WIDTH).rev() {
-                    one(row, x);
-                }
-            }
+    /// The row pass on one row, its pixels between two source pixels, from a copy in `old`
+    /// indexed by the source's whole column: a `u8`, so no read needs a bounds check. Column
+    /// 255 ([`OUTSIDE`]) and its neighbour hold what lies outside; the last column's neighbour
+    /// (its fraction is 0) the last column.
+    fn row_between<T: Pixel>(&self, row: &mut [T; WIDTH], old: &mut [T; 257], fill: Option<T>) {
+        old[..WIDTH].copy_from_slice(row);
+        old[WIDTH] = row[WIDTH - 1];
+        // without a fill, the nearest column of the old frame: its edge on the side turned
+        // towards
+        let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
+        old[255] = outside;
+        old[256] = outside;
+        for (p, &c) in row.iter_mut().zip(self.src.iter()) {
+            let i = usize::from(c >> 8);
+            *p = T::between(old[i], old[i + 1], u32::from(c & 0xFF));
+        }
+    }
+
+    /// The row pass on one row, each pixel the nearest source pixel, in place. Turning right
+    /// every source column lies right of its destination (`x_old > x`), so visiting left to
+    /// right never reads a pixel already written; turning left, right to left.
+    fn row_nearest<T: Pixel>(&self, row: &mut [T; WIDTH], fill: Option<T>) {
+        // without a fill, the nearest column of the old frame: its edge on the side turned
+        // towards (the last one written)
+        let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
+        let one = |row: &mut [T; WIDTH], x: usize| {
+            row[x] = row
+                .get(usize::from(self.near[x]))
+                .copied()
+                .unwrap_or(outside);
+        };
+        if self.right {
+            (0..WIDTH).for_each(|x| one(row, x));
+        } else {
+            (0..WIDTH).rev().for_each(|x| one(row, x));
         }
     }
 }
+
+/// An image as rows.
+type Rows<T> = [[T; WIDTH]; HEIGHT];
+/// Rows in each half of the image (the centre line lies between them).
+const HALF_ROWS: usize = HEIGHT / 2;
+/// The last row, Q8.
+const LAST: i32 = (HEIGHT as i32 - 1) << 8;
+/// The lower half's first row, Q8.
+const HALF: i32 = (HALF_ROWS as i32) << 8;
+/// A column of the old image one row down: what lies outside above and below it, and the
+/// neighbour of a source below (its fraction is 0).
+type Column<T> = [T; HEIGHT + 3];
 
 /// The column pass on column `x` with vertical factor `s` (Q12): new row `y` takes old row
-/// `c_y + (y − c_y)·s` (Q8, between its two neighbours). Rows are visited in pairs at the same
-/// distance `d = |2y − 2c_y|` from the centre line, one in each half. With `s ≥ 1` the source
-/// lies farther from the centre line, so the pairs go from the centre outwards; with `s < 1`
-/// from the edges inwards. Either way a source and its neighbour are read before they are
-/// written, and each half reads only itself. Rows whose source lies less than
-/// [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
-fn column<T: Pixel>(img: &mut [T; PIXELS], x: usize, s_q12: i32, fill: Option<T>) {
+/// `c_y + (y − c_y)·s` (Q8, between its two neighbours), read from a copy of the column, so
+/// the order the rows are written in does not matter. Each half takes only its own rows. Rows whose
+/// source lies less than [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
+fn column<T: Pixel>(img: &mut Rows<T>, x: usize, s_q12: i32, fill: Option<T>) {
     let ds = (s_q12 - 4096).unsigned_abs();
-    if ds == 0 {
+    if ds == 0 || x >= WIDTH {
         return;
     }
-    // the source offset of a row at distance d is d·|s − 1|/2 pixels = d·ds >> 5 in Q8
-    let Ok(first) = i32::try_from((T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1) else {
+    // the source offset of a row at distance d = |2y − 2c_y| from the centre line is
+    // d·|s − 1|/2 pixels = d·ds >> 5 in Q8; the odd distances d from `first` to 71 are the
+    // rows that move: the `n` rows of each half farthest from the centre line
+    let first = (T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1;
+    let Some(n) = usize::try_from(first / 2)
+        .ok()
+        .and_then(|k| HALF_ROWS.checked_sub(k))
+    else {
         return;
     };
-    // the odd distances d from `first` to 71 are the rows that move
-    if s_q12 >= 4096 {
-        let mut d = first;
-        while d <= CY2 {
-            pair(img, x, d, s_q12, fill);
-            d += 2;
-        }
-    } else {
-        let mut d = CY2;
-        while d >= first {
-            pair(img, x, d, s_q12, fill);
-            d -= 2;
-        }
+    let mut old: Column<T> = [img[HEIGHT - 1][x]; HEIGHT + 3];
+    for (o, row) in old[1..].iter_mut().zip(img.iter()) {
+        *o = row[x];
+    }
+    // beyond the image (only with s > 1) and without a fill, the half's edge row
+    old[0] = fill.unwrap_or(img[0][x]);
+    old[HEIGHT + 1] = fill.unwrap_or(img[HEIGHT - 1][x]);
+    old[HEIGHT + 2] = old[HEIGHT + 1];
+    // row y's source, Q8 · 32: CY2·4096 + (2y − CY2)·s, rising by 2s a row
+    let step = 2 * s_q12;
+    let mut q = (CY2 << 12) - CY2 * s_q12;
+    for row in &mut img[..n] {
+        row[x] = source::<T, true>(&old, q >> 5);
+        q += step;
+    }
+    let mut q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s_q12;
+    for row in &mut img[HEIGHT - n..] {
+        row[x] = source::<T, false>(&old, q >> 5);
+        q += step;
     }
 }
 
-/// The two rows of column `x` at distance `d` from the centre line (inlined: a call per pair
-/// would cost more than the pair).
+/// The pixel at old row `q` (Q8) of a half (`UPPER`: rows 0–35) of a [`Column`]: within half
+/// a pixel of the image its edge row, beyond it what lies outside; within the centre line's
+/// half pixel the half's own row. Branch-free (a select, not a jump, on the common path). The
+/// nearest row of a cell is the one [`Pixel::between`] picks.
 #[inline(always)]
-fn pair<T: Pixel>(img: &mut [T; PIXELS], x: usize, d: i32, s_q12: i32, fill: Option<T>) {
-    let (top, bottom) = ((CY2 - d) / 2, (CY2 + d) / 2);
-    let q = d * s_q12;
-    put(img, x, top as usize, ((CY2 << 12) - q) >> 5, true, fill);
-    put(img, x, bottom as usize, ((CY2 << 12) + q) >> 5, false, fill);
-}
-
-/// Row `y` of column `x` takes old row `q` (Q8) of its half (`upper`: rows 0–35).
-#[inline(always)]
-fn put<T: Pixel>(img: &mut [T; PIXELS], x: usize, y: usize, q: i32, upper: bool, fill: Option<T>) {
-    const LAST: i32 = (HEIGHT as i32 - 1) << 8;
-    const HALF: i32 = (HEIGHT as i32 / 2) << 8;
-    // within half a pixel of the image, its edge row; within the centre line's half pixel,
-    // the half's own row
-    let (lo, hi) = if upper { (0, HALF - 256) } else { (HALF, LAST) };
-    let v = if (-128..=LAST + 128).contains(&q) {
-        let q = q.clamp(lo, hi);
-        if T::NEAREST {
-            let i = ((q + 128).min(hi) >> 8) as usize;
-            img.get(i * WIDTH + x).copied()
-        } else {
-            let i = (q >> 8) as usize;
-            let j = if q < hi { i + 1 } else { i };
-            match (img.get(i * WIDTH + x), img.get(j * WIDTH + x)) {
-                (Some(&a), Some(&b)) => Some(T::between(a, b, (q & 0xFF) as u32)),
-                _ => None,
-            }
-        }
+fn source<T: Pixel, const UPPER: bool>(old: &Column<T>, q: i32) -> T {
+    // only the upper half's sources can lie above the image, the lower half's below it
+    let q = if UPPER {
+        select_unpredictable(q < -128, -256, q.clamp(0, HALF - 256))
     } else {
-        fill.or_else(|| {
-            img.get((if upper { lo } else { hi } >> 8) as usize * WIDTH + x)
-                .copied()
-        })
+        select_unpredictable(q > LAST + 128, LAST + 256, q.clamp(HALF, LAST))
     };
-    if let (Some(v), Some(p)) = (v, img.get_mut(y * WIDTH + x)) {
-        *p = v;
-    }
+    // one row down in the copy
+    let i = ((q + 256) >> 8) as usize;
+    T::between(old[i], old[i + 1], (q & 0xFF) as u32)
 }
 
 #[cfg(test)]
@@ -407,15 +413,15 @@ mod tests {
     /// The column pass against its plain definition, for both pixel kinds.
     fn check_column<T: Pixel + Into<u32>>(make: impl Fn(usize) -> T, nearest: bool) {
         for s in [3000, 4000, 4096, 4200, 4700, 6000] {
-            let mut img = [make(0); PIXELS];
-            for y in 0..HEIGHT {
-                img[y * WIDTH + 7] = make(y);
+            let mut img = [[make(0); WIDTH]; HEIGHT];
+            for (y, row) in img.iter_mut().enumerate() {
+                row[7] = make(y);
             }
             column(&mut img, 7, s, Some(make(255)));
-            for y in 0..HEIGHT {
+            for (y, row) in img.iter().enumerate() {
                 let d = 2 * y as i32 - CY2;
                 let q = (d * s + (CY2 << 12)) >> 5;
-                let got = img[y * WIDTH + 7].into() as i32;
+                let got = row[7].into() as i32;
                 let half = if y < HEIGHT / 2 {
                     0..=35 * 256
                 } else {
@@ -445,5 +451,153 @@ mod tests {
         // row's value (interpolated or the nearest), whatever the visiting order
         check_column(|y| (3 * y.min(85)) as u8, false);
         check_column(|y| 3 * y as u32, true);
+    }
+
+    /// The remap as first written (in place, every read bounds-checked), against which the
+    /// faster one is held bit for bit.
+    mod plain {
+        use super::super::*;
+
+        pub fn remap<T: Pixel>(m: &Map, img: &mut [T; PIXELS], fill: Option<T>) {
+            rows(m, img, fill);
+            for (x, &s) in m.scale.iter().enumerate() {
+                column(img, x, i32::from(s), fill);
+            }
+        }
+
+        fn rows<T: Pixel>(m: &Map, img: &mut [T; PIXELS], fill: Option<T>) {
+            let right = m.right;
+            for row in img.chunks_exact_mut(WIDTH) {
+                let Ok(row) = <&mut [T; WIDTH]>::try_from(row) else {
+                    continue;
+                };
+                let outside = fill.unwrap_or(row[if right { WIDTH - 1 } else { 0 }]);
+                let one = |row: &mut [T; WIDTH], x: usize| {
+                    let v = if T::NEAREST {
+                        row.get(usize::from(m.near[x])).copied().unwrap_or(outside)
+                    } else {
+                        let c = m.src[x];
+                        let i = usize::from(c >> 8);
+                        match row.get(i) {
+                            Some(&a) => {
+                                let b = row.get(i + 1).copied().unwrap_or(a);
+                                T::between(a, b, u32::from(c & 0xFF))
+                            }
+                            None => outside,
+                        }
+                    };
+                    row[x] = v;
+                };
+                if right {
+                    for x in 0..WIDTH {
+                        one(row, x);
+                    }
+                } else {
+                    for x in (0..WIDTH).rev() {
+                        one(row, x);
+                    }
+                }
+            }
+        }
+
+        fn column<T: Pixel>(img: &mut [T; PIXELS], x: usize, s_q12: i32, fill: Option<T>) {
+            let ds = (s_q12 - 4096).unsigned_abs();
+            if ds == 0 {
+                return;
+            }
+            let Ok(first) = i32::try_from((T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1) else {
+                return;
+            };
+            if s_q12 >= 4096 {
+                let mut d = first;
+                while d <= CY2 {
+                    pair(img, x, d, s_q12, fill);
+                    d += 2;
+                }
+            } else {
+                let mut d = CY2;
+                while d >= first {
+                    pair(img, x, d, s_q12, fill);
+                    d -= 2;
+                }
+            }
+        }
+
+        fn pair<T: Pixel>(img: &mut [T; PIXELS], x: usize, d: i32, s_q12: i32, fill: Option<T>) {
+            let (top, bottom) = ((CY2 - d) / 2, (CY2 + d) / 2);
+            let q = d * s_q12;
+            put(img, x, top as usize, ((CY2 << 12) - q) >> 5, true, fill);
+            put(img, x, bottom as usize, ((CY2 << 12) + q) >> 5, false, fill);
+        }
+
+        fn put<T: Pixel>(
+            img: &mut [T; PIXELS],
+            x: usize,
+            y: usize,
+            q: i32,
+            upper: bool,
+            fill: Option<T>,
+        ) {
+            const LAST: i32 = (HEIGHT as i32 - 1) << 8;
+            const HALF: i32 = (HEIGHT as i32 / 2) << 8;
+            let (lo, hi) = if upper { (0, HALF - 256) } else { (HALF, LAST) };
+            let v = if (-128..=LAST + 128).contains(&q) {
+                let q = q.clamp(lo, hi);
+                if T::NEAREST {
+                    let i = ((q + 128).min(hi) >> 8) as usize;
+                    img.get(i * WIDTH + x).copied()
+                } else {
+                    let i = (q >> 8) as usize;
+                    let j = if q < hi { i + 1 } else { i };
+                    match (img.get(i * WIDTH + x), img.get(j * WIDTH + x)) {
+                        (Some(&a), Some(&b)) => Some(T::between(a, b, (q & 0xFF) as u32)),
+                        _ => None,
+                    }
+                }
+            } else {
+                fill.or_else(|| {
+                    img.get((if upper { lo } else { hi } >> 8) as usize * WIDTH + x)
+                        .copied()
+                })
+            };
+            if let (Some(v), Some(p)) = (v, img.get_mut(y * WIDTH + x)) {
+                *p = v;
+            }
+        }
+    }
+
+    #[test]
+    fn the_remap_is_its_plain_definition_bit_for_bit() {
+        let mut seed = 12_345u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        let mut turns = [0.0f32; 50];
+        let chosen = [-30.0, -12.0, -0.9, -0.05, 0.05, 0.3, 1.7, 12.0, 29.99, 30.0];
+        for (i, t) in turns.iter_mut().enumerate() {
+            *t = match chosen.get(i) {
+                Some(&c) => c,
+                None => (next() % 60_001) as f32 / 1000.0 - 30.0,
+            };
+        }
+        for deg in turns {
+            let m = Map::new(&Turn::new(deg).unwrap());
+            let grey: [u8; PIXELS] = core::array::from_fn(|_| next() as u8);
+            let cells: [u32; PIXELS] = core::array::from_fn(|_| next());
+            for fill in [None, Some(77)] {
+                let (mut fast, mut plain) = (grey, grey);
+                m.remap(&mut fast, fill);
+                plain::remap(&m, &mut plain, fill);
+                assert!(fast == plain, "grey, turn {deg}, fill {fill:?}");
+                let (mut fast, mut plain) = (cells, cells);
+                let fill = fill.map(u32::from);
+                m.remap(&mut fast, fill);
+                plain::remap(&m, &mut plain, fill);
+                assert!(fast == plain, "cells, turn {deg}, fill {fill:?}");
+            }
+        }
     }
 }
