@@ -340,7 +340,15 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     );
     prop_assert!(vm.alert || vm.lplc2_sum == 0, "{}", ctx());
     // the floor line reports only for a driving robot
-    prop_assert!(!vm.obstacle || (driving && p.floor_row > 0), "{}", ctx());
+    prop_assert!(
+        vm.obstacle.is_none() || (driving && p.floor_row > 0),
+        "{}",
+        ctx()
+    );
+    // alone, its saccade is the θ¹ of the threat it reports
+    if vm.alert && vm.lplc2_sum == 0 {
+        prop_assert_eq!(vm.obstacle, vm.theta_short.map(|[t1, _]| t1), "{}", ctx());
+    }
     let in_path = |x: f32| (x - 49.0).abs() <= f32::from(p.short_cols);
     let off_path = driving && p.short_cols > 0 && !vm.threat_x.is_some_and(in_path);
     if p.adapt_frames == 0 && !off_path {

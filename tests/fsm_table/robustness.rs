@@ -78,7 +78,7 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
             proptest::collection::vec(any::<u8>(), VIEW_CELLS),
             any::<u8>(),
         )),
-        any::<bool>(),
+        proptest::option::of(any_f32()),
     )
         .prop_map(
             |(sum, s, x, alert, short_mode, tl, ts, view, obstacle)| Visuomotor {

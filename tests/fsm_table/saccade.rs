@@ -118,7 +118,7 @@ fn a_saccade_turns_in_place_while_a_takeoff_drives() {
 fn obstacle(x: u8) -> Visuomotor {
     let mut vm = quiet();
     vm.ahead(x, &Params::default());
-    assert!(vm.obstacle && vm.alert && !vm.short_mode && vm.lplc2_sum == 0);
+    assert!(vm.obstacle.is_some() && vm.alert && !vm.short_mode && vm.lplc2_sum == 0);
     vm
 }
 
@@ -141,4 +141,36 @@ fn an_obstacle_close_ahead_cuts_the_escape_short_with_a_saccade() {
     let c = f.step(&vm, 0.0);
     assert_eq!(c.state, State::LongTakeoff);
     assert!(err(c.heading_setpoint_deg, vm.theta_long.unwrap()) < 1e-3);
+}
+
+#[test]
+fn the_obstacle_sets_the_saccade_whatever_the_fields_report() {
+    // a field alerts on the left, the floor line finds an obstacle on the right of the path:
+    // the fields keep X̄, the saccade turns away from the obstacle (left)
+    let (mut f, sp) = escaping(params(), 0.0);
+    let mut vm = long(LEFT_X);
+    vm.ahead(RIGHT_X, &Params::default());
+    assert!(vm.threat_x.unwrap() < 49.0, "the fields' X̄ stands");
+    let c = f.step(&vm, sp);
+    saccade_left(&c, sp, &obstacle(RIGHT_X));
+}
+
+#[test]
+fn the_defaults_saccades_turn_three_times_as_briskly() {
+    let turn = |p: FsmParams| {
+        let (mut f, sp) = escaping(p, 0.0);
+        // 20° to go: 4/s · 20° = 80°/s, or 240°/s with the gain of 3
+        let c = f.step(&obstacle(RIGHT_X), sp);
+        let sp2 = c.heading_setpoint_deg;
+        let c = f.step(&quiet(), wrap_deg(sp2 + 20.0));
+        assert_eq!(c.state, State::LongTakeoff);
+        (c.right_mm_s - c.left_mm_s) / 2.0
+    };
+    let plain = turn(params());
+    let brisk = turn(FsmParams {
+        saccade_gain: FsmParams::ALVS.saccade_gain,
+        ..params()
+    });
+    assert!((plain - 80f32.to_radians() * 24.0).abs() < 0.1, "{plain}");
+    assert!((brisk - 3.0 * plain).abs() < 0.1, "{brisk}");
 }

@@ -16,7 +16,10 @@
 //!
 //! The geometry is the arena's camera ([`CAMERA_HEIGHT_MM`], the horizon at row 35.5, 70° over
 //! 99 columns; a host test holds the renderer to it). The board's camera height is not known
-//! (`docs/hardware.md`, "Geometry"): measure it before turning this on in the firmware.
+//! (`docs/hardware.md`, "Geometry"), and the firmware's default runs the floor line: measure
+//! the height at bring-up and set [`CAMERA_HEIGHT_MM`] (or `floor_row`) to it: a wrong height
+//! moves the distance. A floor that is not one grey (a pattern) would make it fire, and the
+//! robot turn, again and again.
 
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
 

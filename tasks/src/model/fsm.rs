@@ -173,7 +173,8 @@ pub struct FsmParams {
     /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
     /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
     /// fleeing. Measured in `docs/experiments.md` ("Closed-loop mechanisms"). Any value other
-    /// than 0 acts as 1.
+    /// than 0 acts as 1. (The floor line's obstacle saccade, `Params::floor_row`, does not
+    /// depend on it: `--model paper --param floor_row=52` makes it too.)
     pub escape_saccade: u32,
     /// Heading gain of a saccade (an escape saccade, or the turn away from an obstacle close
     /// ahead), as a multiple of `heading_gain`. 1 turns like every other turn; the default 3
@@ -454,7 +455,9 @@ pub struct Fsm {
     setpoint2: f32,
     /// Wander has a heading to hold (false until the first valid frame).
     latched: bool,
-    /// The current long takeoff is an escape saccade (`FsmParams::escape_saccade`).
+    /// The current long takeoff is a saccade: an escape saccade (`FsmParams::escape_saccade`)
+    /// or the turn away from an obstacle close ahead. Both turn in place with
+    /// `FsmParams::saccade_gain`.
     saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
@@ -719,9 +722,11 @@ impl Fsm {
                 // An obstacle close ahead (the floor line) is a distance, not a guess: it
                 // cuts the escape's minimum short, or the robot runs blind into the wall. It
                 // starts a saccade 90° away from the obstacle's side, not a takeoff: a turn
-                // 180° from something ahead heads back towards what the robot flees.
-                if vm.obstacle && self.frames < p.min_escape_frames {
-                    if let Some([t1, _]) = vm.theta_short {
+                // 180° from something ahead heads back towards what the robot flees. Saccades
+                // may follow one another: in a corner that is how the robot finds the way out
+                // (bounding them at 3 or 8 in a row cost 0.6–1.9 points of success).
+                if self.frames < p.min_escape_frames {
+                    if let Some(t1) = vm.obstacle {
                         self.enter_turn(h, t1);
                         self.saccade = true;
                         return;

@@ -31,8 +31,10 @@ pub struct Visuomotor {
     /// (`Params::blocked_change`); `None` when that mechanism is off (the paper's model).
     pub view: Option<(View, u8)>,
     /// The floor line (`Params::floor_row`) found an obstacle close ahead in the robot's path
-    /// on this frame: unlike a field's alert, a distance, so the FSM acts on it at once.
-    pub obstacle: bool,
+    /// on this frame: the heading 90° away from its side (`θ¹_short` of its column, relative,
+    /// whatever the fields report). Unlike a field's alert a distance, so the FSM acts on it
+    /// at once. `None` without one.
+    pub obstacle: Option<f32>,
 }
 
 impl Visuomotor {
@@ -41,11 +43,12 @@ impl Visuomotor {
     /// short mode (ΣLPLC2 stays 0); otherwise the fields' threat stands.
     #[inline(always)]
     pub fn ahead(&mut self, x: u8, p: &Params) {
-        self.obstacle = true;
+        let x = f32::from(x);
+        let [t1, _] = theta_short(x, p.alpha);
+        self.obstacle = Some(t1);
         if self.alert {
             return;
         }
-        let x = f32::from(x);
         self.alert = true;
         self.threat_x = Some(x);
         self.theta_long = Some(theta_long(x, p.alpha));
@@ -76,7 +79,7 @@ impl Visuomotor {
             theta_long: threat_x.map(|x| theta_long(x, p.alpha)),
             theta_short: threat_x.map(|x| theta_short(x, p.alpha)),
             view: None,
-            obstacle: false,
+            obstacle: None,
         }
     }
 }
