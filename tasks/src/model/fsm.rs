@@ -659,6 +659,12 @@ impl Fsm {
         self.quiet = 0;
     }
 
+    /// A saccade to `h + theta`: a long takeoff that turns in place (`FsmParams::saccade_gain`).
+    fn enter_saccade(&mut self, h: f32, theta: f32) {
+        self.enter_turn(h, theta);
+        self.saccade = true;
+    }
+
     fn enter_escape(&mut self, setpoint: f32) {
         self.state = State::Escape;
         self.short_phase = None;
@@ -674,8 +680,7 @@ impl Fsm {
             self.state == State::Escape || (self.state == State::LongTakeoff && self.saccade);
         if vm.short_mode && in_flight && self.params.escape_saccade != 0 {
             if let Some([t1, _]) = vm.theta_short {
-                self.enter_turn(h, t1);
-                self.saccade = true;
+                self.enter_saccade(h, t1);
                 self.latch_strength(vm);
                 return;
             }
@@ -727,8 +732,7 @@ impl Fsm {
                 // (bounding them at 3 or 8 in a row cost 0.6–1.9 points of success).
                 if self.frames < p.min_escape_frames {
                     if let Some(t1) = vm.obstacle {
-                        self.enter_turn(h, t1);
-                        self.saccade = true;
+                        self.enter_saccade(h, t1);
                         return;
                     }
                 }

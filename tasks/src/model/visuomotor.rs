@@ -44,15 +44,15 @@ impl Visuomotor {
     #[inline(always)]
     pub fn ahead(&mut self, x: u8, p: &Params) {
         let x = f32::from(x);
-        let [t1, _] = theta_short(x, p.alpha);
-        self.obstacle = Some(t1);
+        let short = theta_short(x, p.alpha);
+        self.obstacle = Some(short[0]);
         if self.alert {
             return;
         }
         self.alert = true;
         self.threat_x = Some(x);
         self.theta_long = Some(theta_long(x, p.alpha));
-        self.theta_short = Some(theta_short(x, p.alpha));
+        self.theta_short = Some(short);
     }
 
     /// Converges the fields' `(x̄_k, LPLC2_k)` pairs into the visuomotor signals.
