@@ -202,6 +202,19 @@ impl Canvas {
         c
     }
 
+    /// `panels` top to bottom on one white canvas as wide as the widest (at least 1x1).
+    pub fn stacked(panels: &[Canvas]) -> Canvas {
+        let w = panels.iter().map(|p| p.width).max().unwrap_or(1);
+        let h: usize = panels.iter().map(|p| p.height).sum();
+        let mut c = Canvas::new(w.max(1), h.max(1), WHITE);
+        let mut y = 0;
+        for p in panels {
+            c.blit(p, 0, y);
+            y += p.height as i32;
+        }
+        c
+    }
+
     /// Saves the canvas as an 8-bit RGB PNG file (PNG encoding errors become `io::Error`s).
     pub fn save_png(&self, path: impl AsRef<Path>) -> io::Result<()> {
         let dim = |v: usize| u32::try_from(v).map_err(|_| io::Error::other("canvas too large"));

@@ -24,6 +24,10 @@ pub struct TopDown {
     canvas: Canvas,
     px_per_mm: f64,
     origin: (i32, i32),
+    /// The arena point drawn at `origin`, mm ((0, 0) for the whole arena).
+    corner_mm: (f64, f64),
+    /// A close-up ([`TopDown::window`]): its title, drawn with the frame when finished.
+    window_title: Option<String>,
 }
 
 impl TopDown {
@@ -52,20 +56,44 @@ impl TopDown {
             canvas,
             px_per_mm: k,
             origin,
+            corner_mm: (0.0, 0.0),
+            window_title: None,
+        }
+    }
+
+    /// A close-up of the arena's rectangle from `(x_mm, y_mm)` (its top left corner), `w_mm`
+    /// x `h_mm`, at `px_per_mm`, framed by a thin line (not a wall): whatever is drawn
+    /// outside the rectangle is clipped.
+    pub fn window(x_mm: f64, y_mm: f64, w_mm: f64, h_mm: f64, px_per_mm: f64) -> Self {
+        let k = if px_per_mm.is_finite() && px_per_mm > 0.0 {
+            px_per_mm
+        } else {
+            1.0
+        };
+        let size = |mm: f64| ((mm.max(1.0) * k).round() as usize).clamp(1, 4096);
+        TopDown {
+            canvas: Canvas::new(size(w_mm), size(h_mm), FLOOR),
+            px_per_mm: k,
+            origin: (0, 0),
+            corner_mm: (x_mm, y_mm),
+            window_title: Some(String::new()),
         }
     }
 
     /// Canvas pixel of the arena point (x, y) mm.
     pub fn to_px(&self, x_mm: f64, y_mm: f64) -> (i32, i32) {
         (
-            self.origin.0 + (x_mm * self.px_per_mm).round() as i32,
-            self.origin.1 + (y_mm * self.px_per_mm).round() as i32,
+            self.origin.0 + ((x_mm - self.corner_mm.0) * self.px_per_mm).round() as i32,
+            self.origin.1 + ((y_mm - self.corner_mm.1) * self.px_per_mm).round() as i32,
         )
     }
 
     /// Writes `text` above the arena.
     pub fn title(&mut self, text: &str) {
-        self.canvas.text(MARGIN, 3, text, INK, 1);
+        match &mut self.window_title {
+            Some(t) => *t = text.to_string(),
+            None => self.canvas.text(MARGIN, 3, text, INK, 1),
+        }
     }
 
     /// A polyline through `points` (mm).
@@ -125,6 +153,53 @@ impl TopDown {
 
     /// The finished picture.
     pub fn into_canvas(self) -> Canvas {
-        self.canvas
+        let Some(title) = self.window_title else {
+            return self.canvas;
+        };
+        let (w, h) = (self.canvas.width, self.canvas.height);
+        let mut c = Canvas::new(
+            w + 2 * MARGIN as usize,
+            h + (2 * MARGIN + TITLE_SPACE) as usize,
+            OUTSIDE,
+        );
+        c.blit(&self.canvas, MARGIN, MARGIN + TITLE_SPACE);
+        c.rect_outline(
+            MARGIN - 1,
+            MARGIN + TITLE_SPACE - 1,
+            w as i32 + 2,
+            h as i32 + 2,
+            INK,
+        );
+        c.text(MARGIN, 3, &title, INK, 1);
+        c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_window_draws_its_rectangle_only_inside_a_frame() {
+        // 100 x 50 mm from (200, 300) at 2 px/mm: 200 x 100 px inside the margins
+        let mut td = TopDown::window(200.0, 300.0, 100.0, 50.0, 2.0);
+        assert_eq!(td.to_px(200.0, 300.0), (0, 0));
+        assert_eq!(td.to_px(250.0, 310.0), (100, 20));
+        td.title("close-up");
+        // a line from inside to far outside the rectangle stops at its edge
+        td.trail(&[(250.0, 325.0), (900.0, 325.0)], [255, 0, 0]);
+        let c = td.into_canvas();
+        assert_eq!(
+            (c.width, c.height),
+            (
+                200 + 2 * MARGIN as usize,
+                100 + (2 * MARGIN + TITLE_SPACE) as usize
+            )
+        );
+        let (ox, oy) = (MARGIN, MARGIN + TITLE_SPACE);
+        assert_eq!(c.get(ox + 150, oy + 50), Some([255, 0, 0]));
+        assert_eq!(c.get(ox - 1, oy + 50), Some(INK), "the frame");
+        assert_eq!(c.get(ox + 200 + 5, oy + 50), Some(OUTSIDE), "clipped");
+        assert_eq!(c.get(ox + 10, oy + 10), Some(FLOOR));
     }
 }

@@ -213,6 +213,9 @@ pub struct EncounterResult {
     pub escape_turn_deg: f64,
     /// Simulated time of its first alert, s.
     pub first_alert_s: Option<f64>,
+    /// The state its first alert put it in (ALVS: `long_takeoff`, or `short_takeoff`, the γ
+    /// path); `None` if it never alerted.
+    pub first_reaction: Option<&'static str>,
     /// Smallest centre distance to each obstacle, mm (after the physics resolved overlaps).
     pub min_distance_mm: Vec<f64>,
     /// Camera frames simulated.
@@ -412,6 +415,7 @@ pub fn run_with(
             }
         }),
         first_alert_s: first_alert.map(|f| (f + 1) as f64 * FRAME_DT_S),
+        first_reaction: first_alert.map(|_| takeoff_state),
         min_distance_mm: min_distance,
         frames,
         trails,

@@ -149,6 +149,9 @@ pub struct AngleOutcome {
     pub escape_turn_deg: f64,
     /// First alert, s after the start; `null` if it never alerted.
     pub first_alert_s: Option<f64>,
+    /// The state the first alert started: ALVS `long_takeoff` (turn, then run) or
+    /// `short_takeoff` (the γ path); `null` if it never alerted.
+    pub reaction: Option<&'static str>,
     /// Closest centre distance to the obstacle, mm.
     pub min_distance_mm: f64,
     /// Tested robot's positions, 10 per second, mm.
@@ -179,6 +182,7 @@ impl AngleOutcome {
             forward_mm: round1(r.forward_mm),
             escape_turn_deg: round1(r.escape_turn_deg),
             first_alert_s: r.first_alert_s.map(|s| (s * 1000.0).round() / 1000.0),
+            reaction: r.first_reaction,
             min_distance_mm: round1(r.min_distance_mm[0]),
             trail: round(&r.trails[0]),
             obstacle_trail: round(&r.trails[1]),
@@ -205,6 +209,16 @@ pub struct ControllerEvasion {
     pub alerted: usize,
     /// Per bearing, from −35° to 35°.
     pub per_angle: Vec<AngleOutcome>,
+}
+
+impl ControllerEvasion {
+    /// Bearings whose first alert started a short takeoff (the γ path).
+    pub fn gamma_paths(&self) -> usize {
+        self.per_angle
+            .iter()
+            .filter(|o| o.reaction == Some("short_takeoff"))
+            .count()
+    }
 }
 
 /// Everything a run produced.
@@ -312,7 +326,7 @@ impl Report for EvasionReport {
         );
         let _ = writeln!(
             out,
-            "{:<8} {:>8} {:>6} {:>6} {:>6} {:>8} {:>9} {:>8} {:>9} {:>8}",
+            "{:<8} {:>8} {:>6} {:>6} {:>6} {:>8} {:>9} {:>8} {:>9} {:>8}  reaction",
             "ctrl",
             "bearing",
             "away",
@@ -328,7 +342,7 @@ impl Report for EvasionReport {
             for o in &ce.per_angle {
                 let _ = writeln!(
                     out,
-                    "{:<8} {:>8.2} {:>6} {:>6} {:>6.0} {:>8} {:>9} {:>8} {:>9.0} {:>8.0}",
+                    "{:<8} {:>8.2} {:>6} {:>6} {:>6.0} {:>8} {:>9} {:>8} {:>9.0} {:>8.0}  {}",
                     ce.controller,
                     o.angle_deg,
                     side_name(o.away),
@@ -338,20 +352,23 @@ impl Report for EvasionReport {
                     yes(o.collided),
                     o.first_alert_s.map_or("-".into(), |s| format!("{s:.2}")),
                     o.lateral_mm,
-                    o.min_distance_mm
+                    o.min_distance_mm,
+                    o.reaction.unwrap_or("-")
                 );
             }
         }
         for ce in &self.controllers {
             let _ = writeln!(
                 out,
-                "{:<8} correct side {}/{}, collisions {}/{}, alerted {}/{}",
+                "{:<8} correct side {}/{}, collisions {}/{}, alerted {}/{}, γ paths (short takeoff first) {}/{}",
                 ce.controller,
                 ce.correct_side,
                 ce.angles,
                 ce.collisions,
                 ce.angles,
                 ce.alerted,
+                ce.angles,
+                ce.gamma_paths(),
                 ce.angles
             );
         }
@@ -363,12 +380,13 @@ impl Report for EvasionReport {
         encounter::write_trace(path, "controller,bearing_deg", &self.traces)
     }
 
-    /// `evasion.png` in `dir`: one top-down panel per controller with the tested robot's path
-    /// for every bearing (one colour per bearing) and the obstacles' paths in grey.
+    /// `evasion.png` in `dir`: per controller, a row of two top-down panels (the arena, and a
+    /// close-up around the start) with the tested robot's path for every bearing (one colour
+    /// per bearing) and the obstacles' paths in grey.
     fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
-        let c = Canvas::side_by_side(&panels);
+        let rows: Vec<Canvas> = self.controllers.iter().map(panel).collect();
+        let c = Canvas::stacked(&rows);
         let path = dir.join("evasion.png");
         c.save_png(&path)
             .with_context(|| format!("cannot write {}", path.display()))?;
@@ -394,11 +412,16 @@ fn yes(b: bool) -> &'static str {
 
 const OBSTACLE: Rgb = [150, 150, 150];
 
-/// The zoomed top-down picture of one controller's trials.
+/// Side of the close-up square, mm, and its scale.
+const CLOSE_UP_MM: f64 = 240.0;
+const CLOSE_UP_PX_PER_MM: f64 = 2.5;
+
+/// One controller's trials: the arena from above, and a close-up around the start where the
+/// shapes of the escapes show (a γ path: reversing while turning, then forward).
 fn panel(ce: &ControllerEvasion) -> Canvas {
     let arena = World::default().arena;
-    let mut td = TopDown::new(&arena, 0.6);
-    td.title(&format!(
+    let mut whole = TopDown::new(&arena, 0.6);
+    whole.title(&format!(
         "{}: correct side {}/{}, collisions {}/{}",
         ce.controller.to_uppercase(),
         ce.correct_side,
@@ -406,6 +429,39 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
         ce.collisions,
         ce.angles
     ));
+    let start = encounter::tested_start();
+    // the robot flees away from the obstacles, which come from ahead: the square reaches
+    // two thirds of its side behind the start
+    let mut close = TopDown::window(
+        start.x_mm - 2.0 / 3.0 * CLOSE_UP_MM,
+        start.y_mm - 0.5 * CLOSE_UP_MM,
+        CLOSE_UP_MM,
+        CLOSE_UP_MM,
+        CLOSE_UP_PX_PER_MM,
+    );
+    close.title(&format!(
+        "close-up, {CLOSE_UP_MM:.0} mm square: first reaction a short takeoff (gamma path) on {}/{}",
+        ce.gamma_paths(),
+        ce.angles
+    ));
+    // the start pose under the paths, which begin inside it
+    whole.robot(&start, [255, 255, 255]);
+    close.robot(&start, [255, 255, 255]);
+    draw_trials(&mut whole, ce);
+    draw_trials(&mut close, ce);
+    let mut pic = Canvas::side_by_side(&[whole.into_canvas(), close.into_canvas()]);
+    let legend = "grey: obstacle paths (x = start); colours: tested robot per bearing, -35 deg \
+                  first; x = its end (black: collided)";
+    let (lw, lh) = Canvas::text_size(legend, 1);
+    let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
+    c.blit(&pic, 0, 0);
+    c.text(8, pic.height as i32 + 2, legend, BLACK, 1);
+    pic = c;
+    pic
+}
+
+/// The obstacles' paths in grey, then the tested robot's per bearing, ends marked.
+fn draw_trials(td: &mut TopDown, ce: &ControllerEvasion) {
     for o in &ce.per_angle {
         let pts: Vec<(f64, f64)> = o.obstacle_trail.iter().map(|p| (p[0], p[1])).collect();
         td.trail(&pts, OBSTACLE);
@@ -420,15 +476,4 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
             td.mark(e.0, e.1, if o.collided { BLACK } else { colour_cycle(k) });
         }
     }
-    let start = encounter::tested_start();
-    td.robot(&start, [255, 255, 255]);
-    let mut pic = td.into_canvas();
-    let legend = "grey: obstacle paths (x = start); colours: tested robot per bearing, -35 deg \
-                  first; x = its end (black: collided)";
-    let (lw, lh) = Canvas::text_size(legend, 1);
-    let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
-    c.blit(&pic, 0, 0);
-    c.text(8, pic.height as i32 + 2, legend, BLACK, 1);
-    pic = c;
-    pic
 }
