@@ -171,10 +171,11 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go",
+            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
+            alvs_tasks::Params::PAPER.t_s,
             alvs_tasks::Params::ALVS.warmup,
             alvs_tasks::Params::ALVS.flicker_pct,
             alvs_tasks::Params::ALVS.derotate,

@@ -32,7 +32,11 @@ pub struct Params {
     pub w_s: f32,
     /// `α`: degrees per pixel from the horizontal centroid to an angle, Eqs. (13)–(15). Table I: 0.707.
     pub alpha: f32,
-    /// `T_s`: global threat `ΣLPLC2` above which the short-mode escape starts. Table I: 7000.
+    /// `T_s`: global threat `ΣLPLC2` above which the short-mode escape starts. Table I: 7000
+    /// ([`Params::PAPER`]); the default 5500: its quadrant gate trims a rendered robot's
+    /// looming response to about 0.8 of the paper model's, and at 7000 a standing robot took
+    /// an obstacle first seen at 80–95 mm (the edge of the view) for a distant one and turned
+    /// in place while it came on (`docs/experiments.md`, "The short-mode threshold").
     pub t_s: u32,
     /// `C_d`: correlator delay in frames, Eq. (6). Unstated in the paper. Realised as the
     /// classic HRC delay filter, a first-order low-pass with mean delay `C_d` frames (exactly
@@ -175,6 +179,7 @@ impl Params {
         band_row: 27,
         floor_row: 52,
         short_cols: 23,
+        t_s: 5500,
         ..Params::PAPER
     };
 
@@ -499,10 +504,14 @@ mod tests {
 
     #[test]
     fn defaults_are_table_one() {
-        let p = Params::default();
+        let p = Params::PAPER;
         assert_eq!((p.w, p.n, p.r_af, p.t_a, p.t_d), (0.25, 3, 36, 100, 5000));
         assert_eq!((p.d, p.w_s, p.alpha, p.t_s), (4, 4000.0, 0.707, 7000));
         assert_eq!(p.validate(), Ok(()));
+        // the default departs from Table I in T_s only
+        let d = Params::default();
+        assert_eq!((d.w, d.n, d.r_af, d.t_a, d.t_d), (0.25, 3, 36, 100, 5000));
+        assert_eq!((d.d, d.w_s, d.alpha, d.t_s), (4, 4000.0, 0.707, 5500));
     }
 
     #[test]
@@ -537,9 +546,10 @@ mod tests {
                 alvs.t_a_quiet,
                 alvs.band_row,
                 alvs.floor_row,
-                alvs.short_cols
+                alvs.short_cols,
+                alvs.t_s
             ),
-            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23)
+            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23, 5500)
         );
         // everything else is the paper's
         assert_eq!(
@@ -555,6 +565,7 @@ mod tests {
                 band_row: 0,
                 floor_row: 0,
                 short_cols: 0,
+                t_s: 7000,
                 ..alvs
             },
             paper
