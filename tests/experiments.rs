@@ -40,7 +40,8 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     assert_eq!(bearings.last(), Some(&35.0));
     assert_eq!(bearings[4], 0.0);
     for o in &a.per_angle {
-        // a real escape turn, not a twitch: a long takeoff turns ~180° minus the bearing
+        // a real escape turn, not a twitch: a long takeoff turns ~180° minus the bearing, a
+        // γ path ends 180° from the threat too
         assert!(o.escape_turn_deg.abs() > 90.0, "{table}");
         if o.angle_deg > 0.0 {
             assert_eq!(o.side, Side::Left, "{table}");
@@ -59,10 +60,10 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     );
 }
 
-/// `Params::t_s` 5500 in the default (Table I: 7000): an obstacle that enters at the edge of
-/// the view is first seen 80–95 mm away; at 7000 its first alert read as a distant threat, the
-/// robot turned in place while it came on, and on seed 3 two bearings collided. At 5500 those
-/// first alerts are imminent: the robot backs off along the γ path and none collides.
+/// `Params::t_s` 5500 in the default (Table I: 7000): on seed 3 the obstacles from −35° and
+/// −26° enter at the edge of the view and are first seen 78 and 94 mm away (ΣLPLC2 5,769 and
+/// 6,121); at 7000 that first alert started a long takeoff, the robot turned in place while the
+/// obstacle came on, and both collided. At 5500 the robot backs off along the γ path.
 #[test]
 fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     let run = |t_s: &str| {
@@ -80,7 +81,7 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     let (d, t) = (&default.controllers[0], &table_one.controllers[0]);
     assert_eq!(d.correct_side, 9, "{}", default.table());
     assert!(d.collisions <= 1, "{}", default.table());
-    assert!(d.gamma_paths() >= 1, "{}", default.table());
+    assert!(d.gamma_paths() >= Some(1), "{}", default.table());
     // the γ paths are the edge-of-view bearings
     for o in d
         .per_angle
@@ -89,8 +90,8 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     {
         assert!(o.angle_deg.abs() > 20.0, "{}", default.table());
     }
-    assert_eq!(t.gamma_paths(), 0, "{}", table_one.table());
-    assert!(t.collisions >= 2, "{}", table_one.table());
+    assert_eq!(t.gamma_paths(), Some(0), "{}", table_one.table());
+    assert!(d.collisions < t.collisions, "{}", table_one.table());
 }
 
 /// With the camera's exposure blur (`--exposure`, an OV7670 exposing for most of the frame

@@ -571,6 +571,19 @@ mod tests {
     }
 
     #[test]
+    fn stacked_panels_keep_their_order_and_pad_with_white() {
+        let (top, bottom) = (Canvas::new(6, 2, BLACK), Canvas::new(3, 4, RED));
+        let c = Canvas::stacked(&[top, bottom]);
+        assert_eq!((c.width, c.height), (6, 6));
+        assert_eq!(c.get(5, 1), Some(BLACK));
+        assert_eq!(c.get(0, 2), Some(RED));
+        assert_eq!(c.get(2, 5), Some(RED));
+        assert_eq!(c.get(3, 5), Some(WHITE), "narrower panel padded");
+        let empty = Canvas::stacked(&[]);
+        assert_eq!((empty.width, empty.height), (1, 1));
+    }
+
+    #[test]
     fn drawing_off_canvas_changes_nothing() {
         let (mut c, other) = (Canvas::new(10, 8, BLACK), Canvas::new(4, 4, WHITE));
         let (min, max) = (i32::MIN, i32::MAX);

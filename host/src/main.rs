@@ -114,7 +114,7 @@ struct CommonArgs {
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
     /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
@@ -313,7 +313,7 @@ struct ArenaArgs {
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
     /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
@@ -338,7 +338,7 @@ struct ArenaArgs {
 #[derive(clap::Args)]
 struct ModelArgs {
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms, docs/model.md) or paper (the paper's model exactly); it sets both the
+    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
     /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
@@ -364,8 +364,8 @@ struct ModelArgs {
 /// A preset of the model: its perception (`Params::preset`) and its motion (`FsmParams`).
 #[derive(Clone, Copy, ValueEnum)]
 enum Model {
-    /// The paper's model plus the closed-loop mechanisms (`Params::ALVS`, `FsmParams::ALVS`),
-    /// the firmware's.
+    /// The paper's model plus the closed-loop mechanisms and a lower `T_s` (`Params::ALVS`,
+    /// `FsmParams::ALVS`), the firmware's.
     Alvs,
     /// The paper's model exactly (`Params::PAPER`, `FsmParams::PAPER`).
     Paper,

@@ -6,7 +6,7 @@ pub(crate) const DT: f32 = 1.0 / 30.0;
 /// Image columns of a threat on the left and on the right of the 99-pixel horizon.
 pub(crate) const LEFT_X: u8 = 10;
 pub(crate) const RIGHT_X: u8 = 88;
-/// LPLC2 sums below and above `T_s` = 7000.
+/// LPLC2 sums below and above `T_s` (Table I 7000, the default 5500).
 pub(crate) const LONG_R: u32 = 4000;
 pub(crate) const SHORT_R: u32 = 8000;
 

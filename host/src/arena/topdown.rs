@@ -70,12 +70,14 @@ impl TopDown {
         } else {
             1.0
         };
+        // NaN and infinities become 1 mm (sizes) or 0 (the corner); at most 4096 px a side
         let size = |mm: f64| ((mm.max(1.0) * k).round() as usize).clamp(1, 4096);
+        let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
         TopDown {
             canvas: Canvas::new(size(w_mm), size(h_mm), FLOOR),
             px_per_mm: k,
             origin: (0, 0),
-            corner_mm: (x_mm, y_mm),
+            corner_mm: (finite(x_mm), finite(y_mm)),
             window_title: Some(String::new()),
         }
     }
@@ -83,8 +85,12 @@ impl TopDown {
     /// Canvas pixel of the arena point (x, y) mm.
     pub fn to_px(&self, x_mm: f64, y_mm: f64) -> (i32, i32) {
         (
-            self.origin.0 + ((x_mm - self.corner_mm.0) * self.px_per_mm).round() as i32,
-            self.origin.1 + ((y_mm - self.corner_mm.1) * self.px_per_mm).round() as i32,
+            self.origin
+                .0
+                .saturating_add(((x_mm - self.corner_mm.0) * self.px_per_mm).round() as i32),
+            self.origin
+                .1
+                .saturating_add(((y_mm - self.corner_mm.1) * self.px_per_mm).round() as i32),
         )
     }
 

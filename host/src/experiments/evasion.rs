@@ -11,6 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
+use alvs_tasks::model::fsm::State;
 use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
 use serde::Serialize;
@@ -212,12 +213,16 @@ pub struct ControllerEvasion {
 }
 
 impl ControllerEvasion {
-    /// Bearings whose first alert started a short takeoff (the γ path).
-    pub fn gamma_paths(&self) -> usize {
-        self.per_angle
-            .iter()
-            .filter(|o| o.reaction == Some("short_takeoff"))
-            .count()
+    /// Bearings whose first alert started a short takeoff (the γ path); `None` for a
+    /// controller without one (LGMD2's escape has no short mode).
+    pub fn gamma_paths(&self) -> Option<usize> {
+        let short = State::ShortTakeoff.name();
+        (self.controller != Kind::Lgmd2.name()).then(|| {
+            self.per_angle
+                .iter()
+                .filter(|o| o.reaction == Some(short))
+                .count()
+        })
     }
 }
 
@@ -358,9 +363,12 @@ impl Report for EvasionReport {
             }
         }
         for ce in &self.controllers {
+            let gamma = ce.gamma_paths().map_or(String::new(), |g| {
+                format!(", γ paths (short takeoff first) {g}/{}", ce.angles)
+            });
             let _ = writeln!(
                 out,
-                "{:<8} correct side {}/{}, collisions {}/{}, alerted {}/{}, γ paths (short takeoff first) {}/{}",
+                "{:<8} correct side {}/{}, collisions {}/{}, alerted {}/{}{gamma}",
                 ce.controller,
                 ce.correct_side,
                 ce.angles,
@@ -368,8 +376,6 @@ impl Report for EvasionReport {
                 ce.angles,
                 ce.alerted,
                 ce.angles,
-                ce.gamma_paths(),
-                ce.angles
             );
         }
         out
@@ -439,11 +445,14 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
         CLOSE_UP_MM,
         CLOSE_UP_PX_PER_MM,
     );
-    close.title(&format!(
-        "close-up, {CLOSE_UP_MM:.0} mm square: first reaction a short takeoff (gamma path) on {}/{}",
-        ce.gamma_paths(),
-        ce.angles
-    ));
+    close.title(&match ce.gamma_paths() {
+        Some(g) => format!(
+            "close-up, {CLOSE_UP_MM:.0} mm square: first reaction a short takeoff (gamma path) \
+             on {g}/{}",
+            ce.angles
+        ),
+        None => format!("close-up, {CLOSE_UP_MM:.0} mm square"),
+    });
     // the start pose under the paths, which begin inside it
     whole.robot(&start, [255, 255, 255]);
     close.robot(&start, [255, 255, 255]);

@@ -33,10 +33,10 @@ pub struct Params {
     /// `α`: degrees per pixel from the horizontal centroid to an angle, Eqs. (13)–(15). Table I: 0.707.
     pub alpha: f32,
     /// `T_s`: global threat `ΣLPLC2` above which the short-mode escape starts. Table I: 7000
-    /// ([`Params::PAPER`]); the default 5500: its quadrant gate trims a rendered robot's
-    /// looming response to about 0.8 of the paper model's, and at 7000 a standing robot took
-    /// an obstacle first seen at 80–95 mm (the edge of the view) for a distant one and turned
-    /// in place while it came on (`docs/experiments.md`, "The short-mode threshold").
+    /// ([`Params::PAPER`]); the default 5500, chosen by measurement: an obstacle first seen
+    /// late, 71–97 mm away at the edge of the view, alerts at 4,412–6,148, one seen earlier
+    /// mostly at 843–3,267; at 7000 the late ones started a long takeoff, turning in place
+    /// while the obstacle came on (`docs/experiments.md`, "The short-mode threshold").
     pub t_s: u32,
     /// `C_d`: correlator delay in frames, Eq. (6). Unstated in the paper. Realised as the
     /// classic HRC delay filter, a first-order low-pass with mean delay `C_d` frames (exactly
@@ -166,7 +166,7 @@ impl Params {
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
     /// closed loop needs that the paper leaves out, each a parameter with its measured effect
-    /// in `docs/experiments.md`. The firmware runs these.
+    /// in `docs/experiments.md`, and one Table I value moved (`t_s`). The firmware runs these.
     pub const ALVS: Params = Params {
         warmup: 4,
         flicker_pct: 50,
