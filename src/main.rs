@@ -171,7 +171,7 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go",
+            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre and its foot at or below row {} while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
@@ -188,6 +188,7 @@ mod app {
             alvs_tasks::Params::ALVS.band_row,
             alvs_tasks::Params::ALVS.floor_row,
             alvs_tasks::Params::ALVS.short_cols,
+            alvs_tasks::Params::ALVS.short_row,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES
         );

@@ -160,12 +160,19 @@ fn looming_alerts(cy: usize, forward_mm_s: f32) -> u32 {
     looming(49, cy, forward_mm_s).0
 }
 
-/// The same square centred at `(cx, cy)`: (alert frames, short-mode frames).
+/// The same square centred at `(cx, cy)`: (alert frames, short-mode frames). The floor line
+/// and the foot's row for the short mode are off (the square has no floor below it).
 fn looming(cx: usize, cy: usize, forward_mm_s: f32) -> (u32, u32) {
+    looming_with(cx, cy, forward_mm_s, 0)
+}
+
+/// [`looming`] with `Params::short_row` = `short_row`, on a floor (the mid-grey ground).
+fn looming_with(cx: usize, cy: usize, forward_mm_s: f32, short_row: u8) -> (u32, u32) {
     use alvs_tasks::{HEIGHT, PIXELS, WIDTH};
     let mut net = Network::new(Params {
         band_row: 27,
         floor_row: 0,
+        short_row,
         ..Params::ALVS
     })
     .unwrap();
@@ -192,14 +199,42 @@ fn driving_only_a_threat_in_the_path_is_imminent() {
     let (off_standing, off_driving) = (looming(82, 40, 0.0), looming(82, 40, 100.0));
     let (on_standing, on_driving) = (looming(60, 40, 0.0), looming(60, 40, 100.0));
     println!("off {off_standing:?} -> {off_driving:?}, on {on_standing:?} -> {on_driving:?}");
-    assert!(
-        off_standing.1 >= 2,
-        "standing, the short mode: {off_standing:?}"
-    );
-    assert_eq!(off_driving.1, 0, "driving, not off the path");
-    assert_eq!(off_driving.0, off_standing.0, "the alerts stay");
+    assert_short_mode_held_back(off_standing, off_driving);
     assert!(on_standing.1 >= 2, "{on_standing:?}");
     assert_eq!(on_driving, on_standing, "in the path nothing changes");
+}
+
+/// Standing, the (alert frames, short-mode frames) of [`looming`] include the short mode;
+/// driving, none of it, and the same alerts.
+fn assert_short_mode_held_back(standing: (u32, u32), driving: (u32, u32)) {
+    assert!(standing.1 >= 2, "standing, the short mode: {standing:?}");
+    assert_eq!(driving.1, 0, "driving, not imminent: {driving:?}");
+    assert_eq!(driving.0, standing.0, "the alerts stay");
+}
+
+/// `Params::short_row` 50: driving, a threat whose foot is far ahead (above row 50, more than
+/// a second's travel) is not imminent; one whose foot comes below row 50 is, as standing.
+#[test]
+fn driving_only_a_threat_within_a_seconds_travel_is_imminent() {
+    // centred on row 30: the square's lowest row reaches 48, never the row of 98 mm
+    let (far_standing, far_driving) = (
+        looming_with(49, 30, 0.0, 50),
+        looming_with(49, 30, 100.0, 50),
+    );
+    // centred on row 44: its lowest row passes row 50 from the 8th of 24 frames
+    let (near_standing, near_driving) = (
+        looming_with(49, 44, 0.0, 50),
+        looming_with(49, 44, 100.0, 50),
+    );
+    println!("far {far_standing:?} -> {far_driving:?}, near {near_standing:?} -> {near_driving:?}");
+    assert_short_mode_held_back(far_standing, far_driving);
+    assert!(near_standing.1 >= 2, "{near_standing:?}");
+    assert!(
+        near_driving.1 >= 1,
+        "close enough, it stays imminent: {near_driving:?}"
+    );
+    // off, the row changes nothing
+    assert_eq!(looming_with(49, 30, 100.0, 0), far_standing);
 }
 
 #[test]

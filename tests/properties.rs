@@ -218,11 +218,13 @@ fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
     );
-    // the efference copy of forward motion's band, the floor line, the path's columns
+    // the efference copy of forward motion's band, the floor line, the path's columns, the
+    // foot's row of an imminent threat
     let fifth = (
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=49],
+        prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
     );
     let random = (first, second, third, fourth, fifth).prop_map(
         |(
@@ -230,7 +232,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
-            (band_row, floor_row, short_cols),
+            (band_row, floor_row, short_cols, short_row),
         )| Params {
             w,
             n,
@@ -260,6 +262,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             band_row,
             floor_row,
             short_cols,
+            short_row,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -351,11 +354,13 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     }
     let in_path = |x: f32| (x - 49.0).abs() <= f32::from(p.short_cols);
     let off_path = driving && p.short_cols > 0 && !vm.threat_x.is_some_and(in_path);
-    if p.adapt_frames == 0 && !off_path {
+    // a driving robot's threat whose foot is far (`Params::short_row`) is not imminent either
+    let far_gate = driving && p.short_row > 0;
+    if p.adapt_frames == 0 && !off_path && !far_gate {
         prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{}", ctx());
     } else {
-        // motion adaptation, and a threat off the path of a driving robot
-        // (`Params::short_cols`), can only hold the short mode back
+        // motion adaptation, a threat off the path of a driving robot (`Params::short_cols`)
+        // and one far ahead of it (`Params::short_row`) can only hold the short mode back
         prop_assert!(!vm.short_mode || vm.lplc2_sum > p.t_s, "{}", ctx());
         prop_assert!(!vm.short_mode || !off_path, "{}", ctx());
     }

@@ -320,7 +320,7 @@ struct ArenaArgs {
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
     /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
-    /// floor_row short_cols.
+    /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
@@ -345,7 +345,7 @@ struct ModelArgs {
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
     /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
-    /// floor_row short_cols.
+    /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.

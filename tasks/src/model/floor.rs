@@ -82,10 +82,38 @@ fn foot(frame: &[u8; PIXELS], floor: i32, x: usize, near: usize) -> Option<usize
     let offset = (2 * CAMERA_HEIGHT_MM * (x as i32 - (WIDTH as i32 - 1) / 2)).unsigned_abs();
     let width = PATH_HALF_WIDTH_MM as u32;
     let top = ((offset.div_ceil(width) as i32 + HORIZON_X2 + 1) / 2) as usize;
-    // a run's lower row is the foot: scan one row higher than the lowest foot allowed
-    let lowest_foot = near.max(top);
+    foot_below(frame, floor, x, near.max(top))
+}
+
+/// Columns either side of `X̄` that [`nearest_foot`] also looks at: `X̄` may fall on a stripe
+/// of the threat as grey as the floor, or just beside a narrow one.
+pub const FOOT_SEARCH_COLS: usize = 3;
+
+/// The row of the nearest foot (the lowest) in the columns `x ± FOOT_SEARCH_COLS`, wherever
+/// it lies below the horizon, path or not: how far the threat at column `x` stands
+/// (`Params::short_row`). `None` when those columns show the floor up to the horizon or `x`
+/// is out of the image.
+#[inline(never)]
+pub fn nearest_foot(frame: &[u8; PIXELS], x: u8) -> Option<u8> {
+    let x = usize::from(x);
+    if x >= WIDTH {
+        return None;
+    }
+    let floor = floor_grey(frame);
+    (x.saturating_sub(FOOT_SEARCH_COLS)..(x + FOOT_SEARCH_COLS + 1).min(WIDTH))
+        .filter_map(|c| foot_below(frame, floor, c, BELOW_HORIZON))
+        .max()
+        .map(|row| row as u8)
+}
+
+/// The row just below the horizon: the farthest foot the floor can show.
+const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
+
+/// The foot of column `x` at or below row `top` (≥ [`FOOT_ROWS`] − 1): the lowest run of
+/// [`FOOT_ROWS`] rows that differ from `floor` (the run's lower row).
+fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
     let mut run = 0;
-    (lowest_foot + 1 - FOOT_ROWS..HEIGHT).rev().find_map(|y| {
+    (top + 1 - FOOT_ROWS..HEIGHT).rev().find_map(|y| {
         let differs = (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
         run = if differs { run + 1 } else { 0 };
         (run == FOOT_ROWS).then_some(y + FOOT_ROWS - 1)
@@ -175,6 +203,27 @@ mod tests {
         assert_eq!(obstacle_ahead(&wall, 0), None);
         assert_eq!(obstacle_ahead(&wall, 35), None);
         assert_eq!(obstacle_ahead(&wall, 80), None);
+    }
+
+    #[test]
+    fn the_nearest_foot_is_found_beside_the_column_too() {
+        // a wall across the view, foot at row 45: in every column, path or not
+        assert_eq!(nearest_foot(&scene(45, 0..WIDTH, 40), 49), Some(45));
+        assert_eq!(nearest_foot(&scene(45, 0..WIDTH, 40), 2), Some(45));
+        // a post at columns 40..44 (foot at row 60) and a wall behind (foot at row 40)
+        let mut f = scene(40, 0..WIDTH, 200);
+        for y in 0..=60 {
+            for x in 40..44 {
+                f[y * WIDTH + x] = 30;
+            }
+        }
+        assert_eq!(nearest_foot(&f, 42), Some(60));
+        // 3 columns away still sees the post (X̄ beside a narrow threat), 4 do not
+        assert_eq!(nearest_foot(&f, 46), Some(60));
+        assert_eq!(nearest_foot(&f, 47), Some(40));
+        // nothing but floor up to the horizon, and a column out of the image
+        assert_eq!(nearest_foot(&scene(0, 0..0, 0), 49), None);
+        assert_eq!(nearest_foot(&f, 99), None);
     }
 
     #[test]

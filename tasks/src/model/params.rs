@@ -129,6 +129,15 @@ pub struct Params {
     /// encounter distance (126 mm): 70 · 42 / 126. Alerts off the path still start a long
     /// takeoff. 0 turns it off (the paper). See `docs/model.md`, "Closed-loop mechanisms".
     pub short_cols: u8,
+    /// While the robot drives forward, the short mode also needs the threat's foot (where it
+    /// meets the floor, [`crate::model::floor::nearest_foot`] at `X̄`) at or below this row:
+    /// within about one second of travel. Driving, a wall or robot still far ahead expands
+    /// with the robot's own speed; the floor line gives its distance. Row 50 is 98 mm from the
+    /// camera (20 mm above the floor), one second at the cruise speed of 100 mm/s. The alert
+    /// still starts a long takeoff. 0 turns it off (the paper); rows at or above the horizon
+    /// (≤ 35) hold every driving short mode back. See `docs/model.md`, "Closed-loop
+    /// mechanisms".
+    pub short_row: u8,
 }
 
 impl Params {
@@ -162,6 +171,7 @@ impl Params {
         band_row: 0,
         floor_row: 0,
         short_cols: 0,
+        short_row: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -179,6 +189,7 @@ impl Params {
         band_row: 27,
         floor_row: 52,
         short_cols: 23,
+        short_row: 50,
         t_s: 5500,
         ..Params::PAPER
     };
@@ -204,7 +215,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 28] = [
+    pub const NAMES: [&'static str; 29] = [
         "w",
         "n",
         "r_af",
@@ -233,12 +244,13 @@ impl Params {
         "band_row",
         "floor_row",
         "short_cols",
+        "short_row",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 28] = [
+    pub const RANGES: [Range; 29] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -267,6 +279,7 @@ impl Params {
         Range::Int(0, HEIGHT as i64 - 1),
         Range::Int(0, HEIGHT as i64 - 1),
         Range::Int(0, 49),
+        Range::Int(0, HEIGHT as i64 - 1),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -297,6 +310,7 @@ impl Params {
         check_int("band_row", self.band_row.into())?;
         check_int("floor_row", self.floor_row.into())?;
         check_int("short_cols", self.short_cols.into())?;
+        check_int("short_row", self.short_row.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -351,8 +365,9 @@ impl Params {
             "t_a_quiet" => p.t_a_quiet = int(name, v)?,
             "band_row" => p.band_row = int(name, v)?,
             "floor_row" => p.floor_row = int(name, v)?,
+            "short_cols" => p.short_cols = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.short_cols = int(name, v)?,
+            _ => p.short_row = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -529,9 +544,10 @@ mod tests {
                 paper.t_a_quiet,
                 paper.band_row,
                 paper.floor_row,
-                paper.short_cols
+                paper.short_cols,
+                paper.short_row
             ),
-            (0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0),
+            (0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0),
             "the paper has none"
         );
         assert_eq!(
@@ -547,10 +563,11 @@ mod tests {
                 alvs.band_row,
                 alvs.floor_row,
                 alvs.short_cols,
-                alvs.t_s
+                alvs.short_row
             ),
-            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23, 5500)
+            (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23, 50)
         );
+        assert_eq!(alvs.t_s, 5500);
         // everything else is the paper's
         assert_eq!(
             Params {
@@ -565,6 +582,7 @@ mod tests {
                 band_row: 0,
                 floor_row: 0,
                 short_cols: 0,
+                short_row: 0,
                 t_s: 7000,
                 ..alvs
             },
