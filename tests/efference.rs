@@ -213,10 +213,10 @@ fn assert_short_mode_held_back(standing: (u32, u32), driving: (u32, u32)) {
 }
 
 /// `Params::short_row` 50: driving, a threat whose foot is far ahead (above row 50, more than
-/// a second's travel) is not imminent; one whose foot comes below row 50 is, as standing.
+/// a second's travel) is not imminent; one whose foot reaches row 50 is, from then on.
 #[test]
 fn driving_only_a_threat_within_a_seconds_travel_is_imminent() {
-    // centred on row 30: the square's lowest row reaches 48, never the row of 98 mm
+    // centred on row 30: the square's lowest row reaches 49, never the row of 97 mm
     let (far_standing, far_driving) = (
         looming_with(49, 30, 0.0, 50),
         looming_with(49, 30, 100.0, 50),
@@ -230,9 +230,15 @@ fn driving_only_a_threat_within_a_seconds_travel_is_imminent() {
     assert_short_mode_held_back(far_standing, far_driving);
     assert!(near_standing.1 >= 2, "{near_standing:?}");
     assert!(
-        near_driving.1 >= 1,
-        "close enough, it stays imminent: {near_driving:?}"
+        near_driving.1 >= 1 && near_driving.1 < near_standing.1,
+        "imminent once close enough, not before: {near_driving:?}"
     );
+    // off the centre (X̄ in the path, its column searched for the foot) the same holds
+    assert_short_mode_held_back(
+        looming_with(60, 30, 0.0, 50),
+        looming_with(60, 30, 100.0, 50),
+    );
+    assert!(looming_with(60, 44, 100.0, 50).1 >= 1);
     // off, the row changes nothing
     assert_eq!(looming_with(49, 30, 100.0, 0), far_standing);
 }

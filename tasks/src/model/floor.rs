@@ -12,7 +12,9 @@
 //!
 //! Blind spot: an obstacle that covers the bottom row's middle (its foot below the frame, the
 //! robot's centre within ≈ 57 mm of a wall) sets the floor's grey itself and is not found; the
-//! blocked-way test (`Params::blocked_change`) covers a robot that close.
+//! blocked-way test (`Params::blocked_change`) covers a robot that close. [`nearest_foot`]
+//! (`Params::short_row`) has the same blind spot: a driving robot that close to a wall loses
+//! the short mode, and the floor line's earlier alert and the blocked way act instead.
 //!
 //! The geometry is the arena's camera ([`CAMERA_HEIGHT_MM`], the horizon at row 35.5, 70° over
 //! 99 columns; a host test holds the renderer to it). The board's camera height is not known

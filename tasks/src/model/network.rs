@@ -249,7 +249,8 @@ impl Network {
 
     /// The efference copy of forward motion: the robot's forward speed, mm/s, until the next
     /// frame. Above [`DRIVING_MM_S`] the robot drives, and the mechanisms that need it apply to
-    /// that frame: `Params::band_row`, `Params::floor_row` and `Params::short_cols`. A robot that never reports
+    /// that frame: `Params::band_row`, `Params::floor_row`, `Params::short_cols` and
+    /// `Params::short_row`. A robot that never reports
     /// (a camera on a stand, a clip) stands.
     pub fn driving(&mut self, forward_mm_s: f32) {
         self.driving = forward_mm_s > DRIVING_MM_S;

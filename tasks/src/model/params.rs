@@ -132,11 +132,13 @@ pub struct Params {
     /// While the robot drives forward, the short mode also needs the threat's foot (where it
     /// meets the floor, [`crate::model::floor::nearest_foot`] at `X̄`) at or below this row:
     /// within about one second of travel. Driving, a wall or robot still far ahead expands
-    /// with the robot's own speed; the floor line gives its distance. Row 50 is 98 mm from the
+    /// with the robot's own speed; the floor line gives its distance. Row 50 is 97 mm from the
     /// camera (20 mm above the floor), one second at the cruise speed of 100 mm/s. The alert
-    /// still starts a long takeoff. 0 turns it off (the paper); rows at or above the horizon
-    /// (≤ 35) hold every driving short mode back. See `docs/model.md`, "Closed-loop
-    /// mechanisms".
+    /// still starts a long takeoff. 0 turns it off (the paper); 1–36 only need a foot
+    /// somewhere below the horizon (a threat with none within 3 columns is held back). Blind
+    /// spot: a wall so close that it covers the bottom row's middle has no foot (as for the
+    /// floor line) and loses the short mode; the floor line and the blocked way cover it. See
+    /// `docs/model.md`, "Closed-loop mechanisms".
     pub short_row: u8,
 }
 
