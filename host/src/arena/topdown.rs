@@ -104,9 +104,25 @@ impl TopDown {
 
     /// A polyline through `points` (mm).
     pub fn trail(&mut self, points: &[(f64, f64)], colour: Rgb) {
-        for w in points.windows(2) {
-            let (a, b) = (self.to_px(w[0].0, w[0].1), self.to_px(w[1].0, w[1].1));
-            self.canvas.line(a.0, a.1, b.0, b.1, colour);
+        self.wide_trail(points, colour, 1);
+    }
+
+    /// A polyline through `points` (mm), `width_px` pixels wide (1–9; a square pen centred
+    /// on the line).
+    pub fn wide_trail(&mut self, points: &[(f64, f64)], colour: Rgb, width_px: i32) {
+        let w = width_px.clamp(1, 9);
+        let offsets = -(w - 1) / 2..=w / 2;
+        for seg in points.windows(2) {
+            let (a, b) = (
+                self.to_px(seg[0].0, seg[0].1),
+                self.to_px(seg[1].0, seg[1].1),
+            );
+            for dy in offsets.clone() {
+                for dx in offsets.clone() {
+                    self.canvas
+                        .line(a.0 + dx, a.1 + dy, b.0 + dx, b.1 + dy, colour);
+                }
+            }
         }
     }
 
@@ -207,5 +223,21 @@ mod tests {
         assert_eq!(c.get(ox - 1, oy + 50), Some(INK), "the frame");
         assert_eq!(c.get(ox + 200 + 5, oy + 50), Some(OUTSIDE), "clipped");
         assert_eq!(c.get(ox + 10, oy + 10), Some(FLOOR));
+    }
+
+    #[test]
+    fn a_wide_trail_covers_its_width() {
+        let mut td = TopDown::window(0.0, 0.0, 20.0, 20.0, 1.0);
+        td.wide_trail(&[(2.0, 10.0), (18.0, 10.0)], [0, 0, 255], 3);
+        td.trail(&[(2.0, 3.0), (18.0, 3.0)], [255, 0, 0]);
+        let c = td.into_canvas();
+        let (ox, oy) = (MARGIN, MARGIN + TITLE_SPACE);
+        let blue = |y| c.get(ox + 10, oy + y) == Some([0, 0, 255]);
+        assert_eq!(
+            (blue(8), blue(9), blue(10), blue(11), blue(12)),
+            (false, true, true, true, false)
+        );
+        let red = |y| c.get(ox + 10, oy + y) == Some([255, 0, 0]);
+        assert_eq!((red(2), red(3), red(4)), (false, true, false));
     }
 }

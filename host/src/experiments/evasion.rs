@@ -460,7 +460,7 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
     draw_trials(&mut close, ce);
     let mut pic = Canvas::side_by_side(&[whole.into_canvas(), close.into_canvas()]);
     let legend = "grey: obstacle paths (x = start); colours: tested robot per bearing, -35 deg \
-                  first; x = its end (black: collided)";
+                  first, wide: its first reaction a gamma path; x = its end (black: collided)";
     let (lw, lh) = Canvas::text_size(legend, 1);
     let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
     c.blit(&pic, 0, 0);
@@ -478,9 +478,12 @@ fn draw_trials(td: &mut TopDown, ce: &ControllerEvasion) {
             td.mark(s.0, s.1, OBSTACLE);
         }
     }
+    let short = State::ShortTakeoff.name();
     for (k, o) in ce.per_angle.iter().enumerate() {
         let pts: Vec<(f64, f64)> = o.trail.iter().map(|p| (p[0], p[1])).collect();
-        td.trail(&pts, colour_cycle(k));
+        // a γ path (the first reaction a short takeoff) drawn wide
+        let width = if o.reaction == Some(short) { 3 } else { 1 };
+        td.wide_trail(&pts, colour_cycle(k), width);
         if let Some(e) = pts.last() {
             td.mark(e.0, e.1, if o.collided { BLACK } else { colour_cycle(k) });
         }
