@@ -9,6 +9,8 @@
 use std::cell::Cell;
 
 use alvs_tasks::model::derotate::MAX_TURN_DEG;
+use alvs_tasks::model::floor::nearest_foot;
+use alvs_tasks::model::network::DRIVING_MM_S;
 use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
 use alvs_tasks::{Network, ParamError, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
 use proptest::prelude::*;
@@ -457,6 +459,17 @@ fn outputs_stay_bounded_and_consistent() {
                 }
                 let out = net.step(f);
                 check(&p, k, &out, driving)?;
+                // `Params::short_row`: a driving robot's short mode has its foot close enough
+                // (the network drives when told more than DRIVING_MM_S: 150, or the turn)
+                let told = if i % 4 != 0 { 150.0 } else { turn };
+                if told > DRIVING_MM_S && p.short_row > 0 && out.vm.short_mode {
+                    let x = out.vm.threat_x.map_or(0, |x| x as u8);
+                    prop_assert!(
+                        nearest_foot(f, x).is_some_and(|row| row >= p.short_row),
+                        "frame {i}: {:?}",
+                        out.vm
+                    );
+                }
                 k += 1;
                 alert |= out.alert();
                 short |= out.short_mode();
