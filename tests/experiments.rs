@@ -10,7 +10,7 @@ use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
-use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::model::fsm::{FsmParams, State};
 use alvs_tasks::Params;
 
 mod common;
@@ -86,7 +86,7 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     for o in d
         .per_angle
         .iter()
-        .filter(|o| o.reaction == Some("short_takeoff"))
+        .filter(|o| o.reaction == Some(State::ShortTakeoff.name()))
     {
         assert!(o.angle_deg.abs() > 20.0, "{}", default.table());
     }

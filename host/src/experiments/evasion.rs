@@ -458,15 +458,14 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
     close.robot(&start, [255, 255, 255]);
     draw_trials(&mut whole, ce);
     draw_trials(&mut close, ce);
-    let mut pic = Canvas::side_by_side(&[whole.into_canvas(), close.into_canvas()]);
+    let pic = Canvas::side_by_side(&[whole.into_canvas(), close.into_canvas()]);
     let legend = "grey: obstacle paths (x = start); colours: tested robot per bearing, -35 deg \
                   first, wide: its first reaction a gamma path; x = its end (black: collided)";
     let (lw, lh) = Canvas::text_size(legend, 1);
     let mut c = Canvas::new(pic.width.max(lw + 16), pic.height + lh + 8, WHITE);
     c.blit(&pic, 0, 0);
     c.text(8, pic.height as i32 + 2, legend, BLACK, 1);
-    pic = c;
-    pic
+    c
 }
 
 /// The obstacles' paths in grey, then the tested robot's per bearing, ends marked.

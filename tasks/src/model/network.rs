@@ -390,9 +390,11 @@ impl Network {
         }
         if self.driving && p.short_row > 0 && vm.short_mode {
             // `Params::short_row`: driving, only a threat within a second's travel is imminent
-            let x = vm.threat_x.map_or(CENTRE_X as u8, |x| x as u8);
-            vm.short_mode &=
-                floor::nearest_foot(self.retina.prev(), x).is_some_and(|row| row >= p.short_row);
+            // (the short mode has a threat: ΣLPLC2 > T_s)
+            let prev = self.retina.prev();
+            vm.short_mode &= vm.threat_x.is_some_and(|x| {
+                floor::nearest_foot(prev, x as u8).is_some_and(|row| row >= p.short_row)
+            });
         }
         if p.blocked_change > 0 {
             vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
