@@ -255,6 +255,40 @@ fn swarm_robots_spin_and_escaping_robots_do_not() {
 /// needs the robots to see their own forward flow and nothing else while they drive
 /// (`Params::band_row` and `floor_row` 0): with the default's band and floor line they wander
 /// on and the spread stays (330 → 301 mm, docs/experiments.md, "Swarm").
+/// The default swarm (`FsmParams::look_every`, `Params::look_change`): robots that stop to
+/// look for moving objects and head for them gather where the others spin; without the looks
+/// (spin on approach alone) the group keeps its spread.
+#[test]
+fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
+    let run = |look_every: u32| {
+        let config = SwarmConfig {
+            controllers: vec![Kind::Swarm],
+            fsm: FsmParams {
+                look_every,
+                ..FsmParams::default()
+            },
+            ..SwarmConfig::default()
+        };
+        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
+        let t = &r.trials[0];
+        (
+            t.spread_start_mm,
+            t.spread_last_minute_mm,
+            t.nearest_last_minute_mm,
+        )
+    };
+    let (start, end, nearest) = run(FsmParams::default().look_every);
+    assert!(end < 0.5 * start, "the default: {start} → {end} mm");
+    assert!(
+        nearest < 100.0,
+        "the default's nearest neighbour: {nearest} mm"
+    );
+    let (start, end, _) = run(0);
+    assert!(end > 0.8 * start, "without looks: {start} → {end} mm");
+}
+
+/// Spin on approach alone gathers robots only where they spin on their own flow: with the band
+/// and the floor line off (the default of an earlier round) and no looks.
 #[test]
 fn a_spinning_swarm_clusters_over_five_minutes() {
     let spin = |deg_s: f32| {
@@ -267,6 +301,7 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
             },
             fsm: FsmParams {
                 spin_deg_s: deg_s,
+                look_every: 0,
                 ..FsmParams::default()
             },
             ..SwarmConfig::default()

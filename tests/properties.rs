@@ -10,6 +10,7 @@ use std::cell::Cell;
 
 use alvs_tasks::model::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::floor::nearest_foot;
+use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::model::network::DRIVING_MM_S;
 use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
 use alvs_tasks::{Network, ParamError, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
@@ -227,6 +228,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=49],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
+        prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
     let random = (first, second, third, fourth, fifth).prop_map(
         |(
@@ -234,7 +236,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
-            (band_row, floor_row, short_cols, short_row),
+            (band_row, floor_row, short_cols, short_row, look_change),
         )| Params {
             w,
             n,
@@ -265,6 +267,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             floor_row,
             short_cols,
             short_row,
+            look_change,
         },
     );
     prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
@@ -490,6 +493,47 @@ fn outputs_stay_bounded_and_consistent() {
         a >= 10 && s >= 5 && m >= 5,
         "too few interesting cases: {a} {s} {m}"
     );
+}
+
+/// A standing robot's looks (`Params::look_change`, [`Movers`]) on any frames: no panic; none
+/// before the settle and the span have passed, none closer than a span apart, each a column of
+/// the image; none with the look off or while the robot moves.
+#[test]
+fn a_standing_robots_looks_come_no_sooner_than_due_and_inside_the_view() {
+    let looks = Cell::new(0);
+    let mut runner = TestRunner::new(config(64));
+    let result = runner.run(
+        &(sequence(), any::<u8>(), 0usize..60),
+        |(specs, change, moves_at)| {
+            let frames = render(&specs);
+            let mut movers = Movers::new();
+            let mut since: Option<usize> = None;
+            for i in 0..60 {
+                let standing = i != moves_at;
+                let seen = movers.step(&frames[i % frames.len()], standing, change);
+                // frames stood since the robot stopped (or the last look)
+                since = standing.then(|| since.map_or(1, |n| n + 1));
+                let Some(s) = seen else { continue };
+                looks.set(looks.get() + 1);
+                prop_assert!(change > 0, "frame {i}: {s:?} with the look off");
+                let n = since.unwrap_or(0);
+                prop_assert!(
+                    n >= usize::from(SETTLE_FRAMES + SPAN_FRAMES),
+                    "frame {i}: {n}"
+                );
+                if let Sighting::Mover { x } = s {
+                    prop_assert!(usize::from(x) < WIDTH);
+                    prop_assert!(s.bearing_deg().is_some_and(|b| b.abs() < 35.5));
+                }
+                since = Some(usize::from(SETTLE_FRAMES));
+            }
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    assert!(looks.get() >= 20, "too few looks: {}", looks.get());
 }
 
 /// The field capacity holds when the parameters would create fields everywhere: tiny fields,

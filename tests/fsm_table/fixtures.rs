@@ -133,6 +133,32 @@ pub(crate) fn swarm_spin(h: f32) -> Fsm {
     f
 }
 
+/// The swarm with looks every `every` frames of wandering (`FsmParams::look_every`).
+pub(crate) fn swarm_looking(every: u32) -> Fsm {
+    Fsm::new(
+        FsmParams {
+            look_every: every,
+            ..params()
+        },
+        Behaviour::Swarm,
+    )
+}
+
+/// Look, standing at heading `h` (looks after every frame of wandering).
+pub(crate) fn swarm_look(h: f32) -> Fsm {
+    let mut f = swarm_looking(1);
+    assert_eq!(f.step(&quiet(), h).state, State::Look);
+    f
+}
+
+/// [`quiet`] with what a look saw.
+pub(crate) fn saw(s: Sighting) -> Visuomotor {
+    Visuomotor {
+        sighting: Some(s),
+        ..quiet()
+    }
+}
+
 /// Runs the FSM in closed loop with odometry from heading `h0`; `vm_at(frame)` gives the input.
 /// Returns the commands and the heading after each of them.
 pub(crate) fn closed_loop(

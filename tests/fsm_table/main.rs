@@ -6,6 +6,7 @@ use alvs_tasks::model::fsm::{
     Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
     State,
 };
+use alvs_tasks::model::movers::Sighting;
 use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
 use proptest::prelude::*;

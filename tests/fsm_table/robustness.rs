@@ -79,9 +79,10 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
             any::<u8>(),
         )),
         proptest::option::of(any_f32()),
+        proptest::option::of(proptest::option::of(any::<u8>())),
     )
         .prop_map(
-            |(sum, s, x, alert, short_mode, tl, ts, view, obstacle)| Visuomotor {
+            |(sum, s, x, alert, short_mode, tl, ts, view, obstacle, sighting)| Visuomotor {
                 lplc2_sum: sum,
                 strength: s,
                 threat_x: x,
@@ -95,6 +96,7 @@ fn any_vm() -> impl Strategy<Value = Visuomotor> {
                     (cells, level)
                 }),
                 obstacle,
+                sighting: sighting.map(|m| m.map_or(Sighting::Nothing, |x| Sighting::Mover { x })),
             },
         )
 }
@@ -108,7 +110,12 @@ proptest! {
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..200),
     ) {
         let p = FsmParams::default();
-        let mut f = fsm(if swarm { Behaviour::Swarm } else { Behaviour::Escape });
+        // the swarm looks every third frame of wandering (`FsmParams::look_every`)
+        let mut f = if swarm {
+            Fsm::new(FsmParams { look_every: 3, ..params() }, Behaviour::Swarm)
+        } else {
+            fsm(Behaviour::Escape)
+        };
         for (vm, h) in frames {
             let c = f.step(&vm, h);
             prop_assert!(c.left_mm_s.is_finite() && c.right_mm_s.is_finite());
@@ -124,7 +131,7 @@ proptest! {
                 prop_assert!(stopped(&c));
             }
             if swarm {
-                prop_assert!(matches!(c.state, State::Wander | State::Spin));
+                prop_assert!(matches!(c.state, State::Wander | State::Spin | State::Look));
             }
         }
     }
@@ -133,7 +140,8 @@ proptest! {
     #[test]
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 14),
-        counts in proptest::collection::vec(any::<u32>(), 10),
+        counts in proptest::collection::vec(any::<u32>(), 12),
+        swarm in any::<bool>(),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
@@ -161,8 +169,10 @@ proptest! {
             live_strength: counts[8],
             escape_saccade: counts[9],
             saccade_gain: vals[13],
+            look_every: counts[10],
+            look_scans: counts[11],
         };
-        let mut f = Fsm::new(p, Behaviour::Escape);
+        let mut f = Fsm::new(p, if swarm { Behaviour::Swarm } else { Behaviour::Escape });
         for (vm, h) in frames {
             let c = f.step(&vm, h);
             prop_assert!(c.left_mm_s.is_finite() && c.right_mm_s.is_finite());

@@ -229,8 +229,40 @@ fn transition_table_covers_every_state() {
         State::Spin,
         None,
     ));
+    rows.push((
+        "swarm look, none",
+        swarm_look(H),
+        quiet(),
+        H,
+        State::Look,
+        None,
+    ));
+    rows.push((
+        "swarm look, alert",
+        swarm_look(H),
+        long(RIGHT_X),
+        H,
+        State::Spin,
+        None,
+    ));
+    rows.push((
+        "swarm look, a mover",
+        swarm_look(H),
+        saw(Sighting::Mover { x: RIGHT_X }),
+        H,
+        State::Wander,
+        None,
+    ));
+    rows.push((
+        "swarm look, nothing",
+        swarm_look(H),
+        saw(Sighting::Nothing),
+        H,
+        State::Look,
+        None,
+    ));
 
-    let mut seen = [false; 5];
+    let mut seen = [false; 6];
     for (what, mut f, vm, h, next, phase) in rows {
         seen[f.state() as usize] = true;
         let c = f.step(&vm, h);

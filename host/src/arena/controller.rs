@@ -3,6 +3,7 @@
 //! direction-blind escape. A scripted controller drives obstacle robots.
 
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, State};
+use alvs_tasks::model::movers::Movers;
 use alvs_tasks::model::visuomotor::wrap_deg;
 use alvs_tasks::{Frame, Network, Params};
 
@@ -95,6 +96,11 @@ pub struct AlvsController {
     /// The heading of the previous frame: the turn since then is the efference copy the
     /// network takes (`Params::derotate`).
     last_heading: Option<f32>,
+    /// The swarm's look (`Params::look_change`), beside the network: only the swarm needs its
+    /// 2.7 KB, and the firmware, which escapes, has none.
+    movers: Movers,
+    /// The wheels were commanded to stand still for this frame (the efference copy).
+    standing: bool,
 }
 
 impl AlvsController {
@@ -107,6 +113,8 @@ impl AlvsController {
             fsm: Fsm::new(fsm, behaviour),
             swarm: behaviour == Behaviour::Swarm,
             last_heading: None,
+            movers: Movers::new(),
+            standing: false,
         }
     }
 
@@ -129,10 +137,15 @@ impl Controller for AlvsController {
         if let Some(last) = self.last_heading.replace(heading_deg) {
             self.net.turned(wrap_deg(heading_deg - last));
         }
-        let out = self.net.step(frame);
+        let mut out = self.net.step(frame);
+        if self.swarm {
+            let change = self.net.params().look_change;
+            out.vm.sighting = self.movers.step(frame, self.standing, change);
+        }
         let cmd = self.fsm.step(&out.vm, heading_deg);
-        // the efference copy of forward motion for the next frame
+        // the efference copies of forward motion and of standing for the next frame
         self.net.driving((cmd.left_mm_s + cmd.right_mm_s) / 2.0);
+        self.standing = cmd.left_mm_s == 0.0 && cmd.right_mm_s == 0.0;
         Command {
             left_mm_s: cmd.left_mm_s,
             right_mm_s: cmd.right_mm_s,

@@ -296,7 +296,7 @@ impl Report for SwarmReport {
         );
         let _ = writeln!(
             out,
-            "{:<8} {:>12} {:>12} {:>12} {:>12} {:>12} {:>9} {:>7}",
+            "{:<8} {:>12} {:>12} {:>12} {:>12} {:>12} {:>9} {:>7} {:>7}",
             "ctrl",
             "spread t=0",
             "1st min",
@@ -304,12 +304,13 @@ impl Report for SwarmReport {
             "nn 1st min",
             "nn last min",
             "rr/min",
-            "spin %"
+            "spin %",
+            "look %"
         );
         for t in &self.trials {
             let _ = writeln!(
                 out,
-                "{:<8} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>9.2} {:>7.1}",
+                "{:<8} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>12.0} {:>9.2} {:>7.1} {:>7.1}",
                 t.controller,
                 t.spread_start_mm,
                 t.spread_first_minute_mm,
@@ -317,7 +318,8 @@ impl Report for SwarmReport {
                 t.nearest_first_minute_mm,
                 t.nearest_last_minute_mm,
                 t.robot_collisions_per_minute,
-                100.0 * t.state_fraction.get("spin").copied().unwrap_or(0.0)
+                100.0 * t.state_fraction.get("spin").copied().unwrap_or(0.0),
+                100.0 * t.state_fraction.get("look").copied().unwrap_or(0.0)
             );
         }
         let _ = writeln!(

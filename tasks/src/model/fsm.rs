@@ -20,11 +20,19 @@
 //! | ShortTakeoff / Retreat | aligned with `sp¹` | ShortTakeoff / Turn |
 //! | ShortTakeoff / Turn | aligned with `sp²` (or timeout) | Escape holding `sp²` |
 //!
-//! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode; Spin → Wander once
-//! `spin_frames` frames have passed without alert. It never escapes.
+//! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode (and, with the floor
+//! line, on an obstacle close ahead); Spin → Wander once `spin_frames` frames have passed
+//! without alert. It never escapes. With `FsmParams::look_every` (the default, not the
+//! paper) the robot also stops to look for moving objects: Spin → Look, and Wander → Look
+//! every `look_every` frames; Look → Wander towards a mover, or → Look 90° on (at most
+//! `look_scans` times) when it saw none, or → Wander; a threat in Look spins.
 
+use crate::model::movers::Sighting;
 use crate::model::progress::{self, Progress};
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
+
+/// Swarm: the turn in place between two looks that saw nothing, degrees (the camera sees 70°).
+pub const LOOK_TURN_DEG: f32 = 90.0;
 
 /// Motion state of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,6 +47,9 @@ pub enum State {
     ShortTakeoff,
     /// Swarm variant: spinning in place on an approaching object.
     Spin,
+    /// Swarm variant: standing still to look for moving objects, or turning in place to the
+    /// next direction to look in (`FsmParams::look_every`).
+    Look,
 }
 
 impl State {
@@ -50,6 +61,7 @@ impl State {
             State::Escape => "escape",
             State::ShortTakeoff => "short_takeoff",
             State::Spin => "spin",
+            State::Look => "look",
         }
     }
 
@@ -61,6 +73,7 @@ impl State {
             State::Escape,
             State::ShortTakeoff,
             State::Spin,
+            State::Look,
         ]
         .into_iter()
         .find(|st| st.name() == s)
@@ -182,6 +195,16 @@ pub struct FsmParams {
     /// stands half a second in an approaching robot's path is hit (evasion on plain walls 2/9 →
     /// 1/9, `docs/experiments.md`, "Closed-loop mechanisms"). Flies' saccades take 50 ms.
     pub saccade_gain: f32,
+    /// Swarm: frames of wandering before the robot stops to look for moving objects (it also
+    /// looks after every spin). A look stands until the network reports what it saw
+    /// (`Params::look_change`, about 0.7 s); the robot then wanders towards the mover, or, with
+    /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
+    /// wanders on. Spinning and driving robots are the movers a standing robot sees, so the
+    /// group gathers where the others spin ("moved toward a swarm leader", Sec. IV-D).
+    /// 0 never looks (the paper). Measured in `docs/experiments.md`, "Swarm".
+    pub look_every: u32,
+    /// Swarm: further looks, each 90° on, after a look that saw nothing.
+    pub look_scans: u32,
 }
 
 impl Default for FsmParams {
@@ -220,16 +243,19 @@ impl FsmParams {
         live_strength: 0,
         escape_saccade: 0,
         saccade_gain: 1.0,
+        look_every: 0,
+        look_scans: 3,
     };
 
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
     /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
     /// mechanisms"): the escape saccade, a takeoff that moves at half the escape speed while
-    /// it turns, and saccades three times as brisk as other turns.
+    /// it turns, saccades three times as brisk as other turns, and the swarm's looks.
     pub const ALVS: FsmParams = FsmParams {
         escape_saccade: 1,
         takeoff_drive: 0.5,
         saccade_gain: 3.0,
+        look_every: 45,
         ..FsmParams::PAPER
     };
 
@@ -245,7 +271,7 @@ impl FsmParams {
     }
 
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 24] = [
+    pub const NAMES: [&'static str; 26] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -270,6 +296,8 @@ impl FsmParams {
         "live_strength",
         "escape_saccade",
         "saccade_gain",
+        "look_every",
+        "look_scans",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
@@ -325,6 +353,8 @@ impl FsmParams {
             "escape_saccade" => p.escape_saccade = mode(1)?,
             "live_strength" => p.live_strength = mode(2)?,
             "saccade_gain" => p.saccade_gain = real(false)?,
+            "look_every" => p.look_every = count()?,
+            "look_scans" => p.look_scans = count()?,
             _ => p.takeoff_drive = real(false)?,
         }
         Ok(())
@@ -461,8 +491,11 @@ pub struct Fsm {
     saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
-    /// Frames since entering the state (Spin: since the last alert).
+    /// Frames since entering the state (Spin: since the last alert; Look: since the last turn
+    /// to a new direction).
     frames: u32,
+    /// Looks left in the current scan (`FsmParams::look_scans`).
+    scans: u32,
     /// Consecutive frames without alert (Escape).
     quiet: u32,
     /// |yaw rate| commanded on the previous frame, °/s (the efference copy).
@@ -491,6 +524,7 @@ impl Fsm {
             saccade: false,
             strength: 0.5,
             frames: 0,
+            scans: 0,
             quiet: 0,
             last_yaw_deg_s: 0.0,
             settle: 0,
@@ -703,11 +737,12 @@ impl Fsm {
         let p = self.params;
         let aligned = |sp: f32| heading_error_deg(sp, h).abs() <= p.align_tol_deg;
         match self.state {
-            // Spin belongs to the swarm behaviour; should it ever be current here, act as Wander.
-            State::Wander | State::Spin => {
+            // Spin and Look belong to the swarm behaviour; should one be current here, act as
+            // Wander.
+            State::Wander | State::Spin | State::Look => {
                 if vm.alert {
                     self.enter_long(vm, h);
-                } else if self.state == State::Spin {
+                } else if matches!(self.state, State::Spin | State::Look) {
                     self.enter_wander(h);
                 }
             }
@@ -759,7 +794,9 @@ impl Fsm {
     }
 
     fn transition_swarm(&mut self, vm: &Visuomotor, h: f32) {
-        let threat = vm.alert || vm.short_mode;
+        // an obstacle close ahead on the floor line approaches as surely as a looming field
+        let threat = vm.alert || vm.short_mode || vm.obstacle.is_some();
+        let p = self.params;
         match self.state {
             State::Spin => {
                 // The spin lasts `spin_frames` after the last alert.
@@ -768,23 +805,62 @@ impl Fsm {
                 } else {
                     self.frames.saturating_add(1)
                 };
-                if self.frames >= self.params.spin_frames {
-                    self.enter_wander(h);
+                if self.frames >= p.spin_frames {
+                    self.enter_look_or_wander(h);
                 }
             }
-            // Only Wander and Spin occur in the swarm behaviour; treat anything else as Wander.
-            _ => {
-                if threat {
-                    self.state = State::Spin;
-                    self.short_phase = None;
-                    self.setpoint = h;
-                    self.frames = 0;
-                    self.quiet = 0;
-                } else if self.state != State::Wander {
-                    self.enter_wander(h);
+            _ if threat => {
+                self.state = State::Spin;
+                self.short_phase = None;
+                self.setpoint = h;
+                self.frames = 0;
+                self.quiet = 0;
+            }
+            State::Look => {
+                self.frames = self.frames.saturating_add(1);
+                match vm.sighting.map(Sighting::bearing_deg) {
+                    // towards the mover
+                    Some(Some(b)) => {
+                        self.enter_wander(h);
+                        self.setpoint = wrap_deg(h + b);
+                    }
+                    // nothing here: turn on and look again
+                    Some(None) if self.scans > 0 => {
+                        self.scans -= 1;
+                        self.setpoint = wrap_deg(h + LOOK_TURN_DEG);
+                        self.frames = 0;
+                    }
+                    Some(None) => self.enter_wander(h),
+                    // a network that never reports (`Params::look_change` 0) ends the look
+                    None if self.frames >= p.takeoff_timeout_frames => self.enter_wander(h),
+                    None => {}
                 }
             }
+            State::Wander => {
+                self.frames = self.frames.saturating_add(1);
+                if p.look_every > 0 && self.frames >= p.look_every {
+                    self.enter_look(h);
+                }
+            }
+            // Only Wander, Spin and Look occur in the swarm behaviour.
+            _ => self.enter_wander(h),
         }
+    }
+
+    fn enter_look_or_wander(&mut self, h: f32) {
+        if self.params.look_every > 0 {
+            self.enter_look(h);
+        } else {
+            self.enter_wander(h);
+        }
+    }
+
+    fn enter_look(&mut self, h: f32) {
+        self.state = State::Look;
+        self.short_phase = None;
+        self.setpoint = h;
+        self.frames = 0;
+        self.scans = self.params.look_scans;
     }
 
     /// Wheel speeds of the current state.
@@ -811,6 +887,11 @@ impl Fsm {
                 _ => (-s * p.retreat_mm_s, self.steer(self.setpoint, h)),
             },
             State::Spin => (0.0, p.spin_deg_s.to_radians()),
+            // stand to look once facing the direction to look in
+            State::Look if heading_error_deg(self.setpoint, h).abs() <= p.align_tol_deg => {
+                (0.0, 0.0)
+            }
+            State::Look => (0.0, self.steer(self.setpoint, h)),
         };
         let yaw = omega.to_degrees().abs();
         self.last_yaw_deg_s = if yaw.is_finite() { yaw } else { 0.0 };
@@ -907,21 +988,27 @@ mod tests {
 
     #[test]
     fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
-        // the default is the paper's plus the escape saccade, the moving takeoff and brisk
-        // saccades, nothing else
+        // the default is the paper's plus the escape saccade, the moving takeoff, brisk
+        // saccades and the swarm's looks, nothing else
         assert_eq!(
             FsmParams {
                 escape_saccade: 0,
                 takeoff_drive: 0.0,
                 saccade_gain: 1.0,
+                look_every: 0,
                 ..FsmParams::default()
             },
             FsmParams::PAPER
         );
         let a = FsmParams::ALVS;
         assert_eq!(
-            (a.escape_saccade, a.takeoff_drive, a.saccade_gain),
-            (1, 0.5, 3.0)
+            (
+                a.escape_saccade,
+                a.takeoff_drive,
+                a.saccade_gain,
+                a.look_every
+            ),
+            (1, 0.5, 3.0, 45)
         );
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded

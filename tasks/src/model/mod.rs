@@ -14,6 +14,7 @@
 //! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] | — |
 //! | whole-field luminance events (a closed-loop mechanism, not in the paper) | [`luminance`] | — |
 //! | efference copy of turns: the retina's memory re-registered (closed-loop, not in the paper) | [`derotate`] | — |
+//! | moving objects seen while standing, the swarm's look (closed-loop, not in the paper) | [`movers`] | — |
 
 pub mod attention;
 pub mod derotate;
@@ -23,6 +24,7 @@ pub mod fsm;
 pub mod hrc;
 pub mod lplc2;
 pub mod luminance;
+pub mod movers;
 pub mod network;
 pub mod params;
 pub mod progress;

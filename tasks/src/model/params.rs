@@ -140,6 +140,15 @@ pub struct Params {
     /// floor line) and loses the short mode; the floor line and the blocked way cover it. See
     /// `docs/model.md`, "Closed-loop mechanisms".
     pub short_row: u8,
+    /// The swarm's look ([`crate::model::movers`], run beside the network by whatever runs
+    /// the swarm behaviour): while the wheels are commanded to stand, the band of rows where
+    /// robots appear is compared over 0.4 s, and the column where most pixels changed by more
+    /// than this many grey levels is reported: something that moves, another robot, since a
+    /// standing robot has no flow of its own. 0 turns it off (the paper); 25 is far above the
+    /// camera's noise (2 grey levels per pixel, 2 % gain flicker, at most 5 at full white):
+    /// 15 took noise for movers (`docs/experiments.md`, "Swarm"). Only the swarm behaviour acts
+    /// on it (`FsmParams::look_every`); the escape and the firmware never look.
+    pub look_change: u8,
 }
 
 impl Params {
@@ -174,6 +183,7 @@ impl Params {
         floor_row: 0,
         short_cols: 0,
         short_row: 0,
+        look_change: 0,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -192,6 +202,7 @@ impl Params {
         floor_row: 52,
         short_cols: 23,
         short_row: 50,
+        look_change: 25,
         t_s: 5500,
         ..Params::PAPER
     };
@@ -217,7 +228,7 @@ impl Params {
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 29] = [
+    pub const NAMES: [&'static str; 30] = [
         "w",
         "n",
         "r_af",
@@ -247,12 +258,13 @@ impl Params {
         "floor_row",
         "short_cols",
         "short_row",
+        "look_change",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 29] = [
+    pub const RANGES: [Range; 30] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -282,6 +294,7 @@ impl Params {
         Range::Int(0, HEIGHT as i64 - 1),
         Range::Int(0, 49),
         Range::Int(0, HEIGHT as i64 - 1),
+        Range::Int(0, 255),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -313,6 +326,7 @@ impl Params {
         check_int("floor_row", self.floor_row.into())?;
         check_int("short_cols", self.short_cols.into())?;
         check_int("short_row", self.short_row.into())?;
+        check_int("look_change", self.look_change.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -368,8 +382,9 @@ impl Params {
             "band_row" => p.band_row = int(name, v)?,
             "floor_row" => p.floor_row = int(name, v)?,
             "short_cols" => p.short_cols = int(name, v)?,
+            "short_row" => p.short_row = int(name, v)?,
             // the last of NAMES; every other name matched above
-            _ => p.short_row = int(name, v)?,
+            _ => p.look_change = int(name, v)?,
         }
         p.validate()?;
         *self = p;
@@ -569,6 +584,7 @@ mod tests {
             ),
             (4, 50, 2, 1, 30, 50, 3, 30, 27, 52, 23, 50)
         );
+        assert_eq!((paper.look_change, alvs.look_change), (0, 25));
         assert_eq!(alvs.t_s, 5500);
         // everything else is the paper's
         assert_eq!(
@@ -585,6 +601,7 @@ mod tests {
                 floor_row: 0,
                 short_cols: 0,
                 short_row: 0,
+                look_change: 0,
                 t_s: 7000,
                 ..alvs
             },

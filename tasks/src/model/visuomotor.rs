@@ -6,6 +6,7 @@
 //! image (`X̄ > 49`) is at a positive bearing.
 
 use crate::frame::CENTRE_X;
+use crate::model::movers::Sighting;
 use crate::model::params::Params;
 use crate::model::progress::View;
 
@@ -35,6 +36,10 @@ pub struct Visuomotor {
     /// whatever the fields report). Unlike a field's alert a distance, so the FSM acts on it
     /// at once. `None` without one.
     pub obstacle: Option<f32>,
+    /// What the swarm's look found on this frame (`Params::look_change`,
+    /// [`crate::model::movers::Movers`], run beside the network; the network leaves it `None`):
+    /// `Some` once per look of a robot commanded to stand, `None` on every other frame.
+    pub sighting: Option<Sighting>,
 }
 
 impl Visuomotor {
@@ -80,6 +85,7 @@ impl Visuomotor {
             theta_short: threat_x.map(|x| theta_short(x, p.alpha)),
             view: None,
             obstacle: None,
+            sighting: None,
         }
     }
 }

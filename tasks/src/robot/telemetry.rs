@@ -41,12 +41,13 @@ pub const MAX_X_TENTHS: u16 = (WIDTH as u16 - 1) * 10;
 pub const MAX_STRENGTH_MILLI: u16 = 1000;
 
 /// Every FSM state, to size [`LINE_CAP`] from the longest name.
-const STATES: [State; 5] = [
+const STATES: [State; 6] = [
     State::Wander,
     State::LongTakeoff,
     State::Escape,
     State::ShortTakeoff,
     State::Spin,
+    State::Look,
 ];
 
 const fn longest_state_name() -> usize {
@@ -475,7 +476,8 @@ mod tests {
             | State::LongTakeoff
             | State::Escape
             | State::ShortTakeoff
-            | State::Spin => {}
+            | State::Spin
+            | State::Look => {}
         }
     }
 
