@@ -155,3 +155,41 @@ fn a_reader_that_stops_early_ends_the_replay_quietly() {
         out.status
     );
 }
+
+/// `--mode swarm`: the replay runs the swarm's look beside the network, as the arena's swarm
+/// robots do. A robot that stops to look at a scene where something moves sets off towards it
+/// at the look's end; in a still scene it turns to look elsewhere.
+#[test]
+fn a_swarm_replay_looks_and_sets_off_towards_what_moves() {
+    use alvs_host::replay::Pipeline;
+    use alvs_tasks::model::fsm::{Behaviour, FsmParams, State};
+    use alvs_tasks::{Params, PIXELS, WIDTH};
+    let run = |moving: bool| {
+        let mut pipe =
+            Pipeline::new(Params::default(), FsmParams::default(), Behaviour::Swarm).unwrap();
+        let mut states = Vec::new();
+        for i in 0..70usize {
+            let mut f = [120u8; PIXELS];
+            // a small dark object near the horizon, drifting right a column a frame
+            let x0 = if moving { 60 + i / 2 } else { 70 };
+            for y in 33..38 {
+                for x in x0..x0 + 4 {
+                    f[y * WIDTH + x] = 40;
+                }
+            }
+            pipe.step(&f);
+            states.push(pipe.fsm.state());
+        }
+        states
+    };
+    // 45 frames of wandering, then the look: 10 frames to settle and 12 to watch
+    let moving = run(true);
+    assert_eq!(moving[43], State::Wander);
+    assert!(
+        moving[44..66].iter().all(|&s| s == State::Look),
+        "{moving:?}"
+    );
+    assert_eq!(moving[66], State::Wander, "set off towards the mover");
+    let still = run(false);
+    assert_eq!(still[66], State::Look, "turning to look elsewhere");
+}

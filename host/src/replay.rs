@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry};
 use alvs_tasks::model::hrc::{motion_map, Direction};
+use alvs_tasks::model::movers::Movers;
 use alvs_tasks::{Frame, Network, Params, Perception, HEIGHT, PIXELS, WIDTH};
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -54,6 +55,11 @@ pub struct Pipeline {
     /// Motor-control task state.
     pub fsm: Fsm,
     odometry: Odometry,
+    /// The swarm's look beside the network (`Params::look_change`), as the arena's swarm
+    /// robots run it; `None` for the escape.
+    movers: Option<Movers>,
+    /// The FSM commanded both wheels to stand for this frame.
+    standing: bool,
 }
 
 impl Pipeline {
@@ -64,13 +70,19 @@ impl Pipeline {
             net,
             fsm: Fsm::new(fp, behaviour),
             odometry: Odometry::new(fp.track_mm, 0.0),
+            movers: (behaviour == Behaviour::Swarm).then(Movers::new),
+            standing: false,
         })
     }
 
     /// One frame through perception and motor control.
     pub fn step(&mut self, frame: &Frame) -> (Perception, FrameJson) {
-        let out = self.net.step(frame);
+        let mut out = self.net.step(frame);
+        if let Some(m) = &mut self.movers {
+            out.vm.sighting = m.step(frame, self.standing, self.net.params().look_change);
+        }
         let cmd = self.fsm.step(&out.vm, self.odometry.heading_deg());
+        self.standing = cmd.left_mm_s == 0.0 && cmd.right_mm_s == 0.0;
         self.odometry.update(cmd.left_mm_s, cmd.right_mm_s, DT_S);
         let json = FrameJson {
             frame: out.frame,
