@@ -249,15 +249,10 @@ fn swarm_robots_spin_and_escaping_robots_do_not() {
     assert_eq!(a, b);
 }
 
-/// Paper Fig. 7: six robots spinning on approach draw together. Each spin turns a robot half
-/// round, away from what it saw; near others it stops and turns again and again, alone it runs
-/// on, so the group gathers. With a full turn per spin (360°/s) it does not. The gathering
-/// needs the robots to see their own forward flow and nothing else while they drive
-/// (`Params::band_row` and `floor_row` 0): with the default's band and floor line they wander
-/// on and the spread stays (330 → 301 mm, docs/experiments.md, "Swarm").
-/// The default swarm (`FsmParams::look_every`, `Params::look_change`): robots that stop to
-/// look for moving objects and head for them gather where the others spin; without the looks
-/// (spin on approach alone) the group keeps its spread.
+/// Paper Fig. 7, the default swarm (`FsmParams::look_every`, `Params::look_change`): robots
+/// that stop to look for moving objects and head for them gather where the others spin;
+/// without the looks (spin on approach, and on the floor line's obstacle close ahead) the
+/// group keeps its spread.
 #[test]
 fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
     let run = |look_every: u32| {
@@ -287,8 +282,35 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
     assert!(end > 0.8 * start, "without looks: {start} → {end} mm");
 }
 
-/// Spin on approach alone gathers robots only where they spin on their own flow: with the band
-/// and the floor line off (the default of an earlier round) and no looks.
+/// The paper's swarm (`--model paper`) never looks; the default's robots do.
+#[test]
+fn only_the_default_swarm_looks() {
+    let looked = |params: Params, fsm: FsmParams| {
+        let config = SwarmConfig {
+            controllers: vec![Kind::Swarm],
+            minutes: 0.5,
+            params,
+            fsm,
+            ..SwarmConfig::default()
+        };
+        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
+        r.trials[0]
+            .state_fraction
+            .get("look")
+            .copied()
+            .unwrap_or(0.0)
+    };
+    assert_eq!(looked(Params::PAPER, FsmParams::PAPER), 0.0);
+    assert!(looked(Params::default(), FsmParams::default()) > 0.1);
+}
+
+/// Spin on approach alone, without looks: six robots draw together only while they spin on
+/// their own flow. Each spin turns a robot half round, away from what it saw; near others it
+/// stops and turns again and again, alone it runs on, so the group gathers. With a full turn
+/// per spin (360°/s) it does not. The gathering needs the robots to see their own forward flow
+/// and nothing else while they drive (`Params::band_row` and `floor_row` 0, the default of an
+/// earlier round): with the default's band and floor line they wander on and the spread stays
+/// (330 → 301 mm, docs/experiments.md, "Swarm").
 #[test]
 fn a_spinning_swarm_clusters_over_five_minutes() {
     let spin = |deg_s: f32| {

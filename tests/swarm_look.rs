@@ -6,7 +6,6 @@
 
 use alvs_host::arena::render::CAMERA_FORWARD_MM;
 use alvs_host::arena::{Camera, Pose, Renderer, SensorNoise, WallTexture, World};
-use alvs_tasks::model::fsm::FsmParams;
 use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::Params;
 
@@ -96,18 +95,5 @@ fn walls_and_standing_robots_are_nothing() {
             ]
         });
         assert_eq!(s, Sighting::Nothing);
-    }
-}
-
-#[test]
-fn the_paper_never_looks() {
-    assert_eq!(Params::PAPER.look_change, 0);
-    assert_eq!(FsmParams::PAPER.look_every, 0);
-    let world = World::default();
-    let r = Renderer::new(&world);
-    let mut movers = Movers::new();
-    for i in 0..100 {
-        let f = r.render(&[eye(), at_bearing(&eye(), 0.0, 300.0, 6.0 * i as f64)], 0);
-        assert_eq!(movers.step(&f, true, Params::PAPER.look_change), None);
     }
 }

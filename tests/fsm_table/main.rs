@@ -2,13 +2,16 @@
 //! the transition table, the short-mode override, the γ path and the long takeoff in closed
 //! loop with odometry, the quiet period, the takeoff timeout and robustness to bad input.
 
+use alvs_tasks::model::derotate::FOCAL_PX;
+use alvs_tasks::model::fsm::LOOK_TIMEOUT_FRAMES;
 use alvs_tasks::model::fsm::{
     Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
     State,
 };
-use alvs_tasks::model::movers::Sighting;
+use alvs_tasks::model::movers::{Movers, Sighting};
 use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
+use alvs_tasks::{PIXELS, WIDTH};
 use proptest::prelude::*;
 
 mod blocked_way;

@@ -48,7 +48,8 @@ fn swarm_without_looks_never_looks_and_a_look_needs_look_every() {
     assert!(closed_loop(&mut f, 0.0, 200, |_| quiet())
         .iter()
         .all(|(c, _)| c.state == State::Wander));
-    // looks every 45 frames: wanders 44 more frames after the first, then stands to look
+    // looks every 45 frames: the first step latches the heading and counts, so the first look
+    // starts on the 45th step, after 44 frames of wandering (later ones after 45)
     let mut f = swarm_looking(45);
     let run = closed_loop(&mut f, 0.0, 60, |_| quiet());
     let first_look = run.iter().position(|(c, _)| c.state == State::Look);
@@ -112,19 +113,88 @@ fn a_look_that_sees_nothing_turns_90_and_looks_again_up_to_look_scans_times() {
             break;
         }
     }
-    // four looks, each about 90° right of the last, then it wanders on
+    // four looks 90° apart (each within the alignment tolerance of its direction, the
+    // shortfalls not adding up), then it wanders on
     assert_eq!(looks.len(), 4, "{looks:?}");
-    for w in looks.windows(2) {
-        assert!(err(w[1], w[0] + 90.0) <= p.align_tol_deg, "{looks:?}");
+    for (k, h) in looks.iter().enumerate() {
+        assert!(
+            err(*h, looks[0] + 90.0 * k as f32) <= p.align_tol_deg,
+            "{looks:?}"
+        );
     }
     assert_eq!(f.state(), State::Wander);
 }
 
 #[test]
-fn a_look_the_network_never_answers_ends_after_the_takeoff_timeout() {
-    let p = params();
-    let mut f = swarm_look(0.0);
+fn a_look_nothing_answers_ends_after_its_own_timeout() {
+    // the escape's takeoff timeout does not shorten a look
+    let mut f = Fsm::new(
+        FsmParams {
+            look_every: 1,
+            takeoff_timeout_frames: 20,
+            ..params()
+        },
+        Behaviour::Swarm,
+    );
     let run = closed_loop(&mut f, 0.0, 200, |_| quiet());
+    assert_eq!(run[0].0.state, State::Look);
     let end = run.iter().position(|(c, _)| c.state == State::Wander);
-    assert_eq!(end, Some(p.takeoff_timeout_frames as usize - 1));
+    assert_eq!(end, Some(LOOK_TIMEOUT_FRAMES as usize));
+}
+
+/// The default's swarm FSM (saccadic suppression on) with the look beside it, in closed loop
+/// with odometry, in a still scene with one small object that jiggles (a mover) behind the
+/// robot: the looks go round until the object is in view, and the robot sets off towards it.
+#[test]
+fn the_default_swarm_finds_a_mover_behind_it_by_looking_round() {
+    let p = FsmParams::default();
+    let mover_deg = 200.0f32;
+    let mut f = Fsm::new(p, Behaviour::Swarm);
+    let mut movers = Movers::new();
+    let mut odo = Odometry::new(p.track_mm, 0.0);
+    let (mut standing, mut states) = (false, Vec::new());
+    for i in 0..400usize {
+        let h = odo.heading_deg();
+        // the object's column from the heading, 2 columns to and fro every 4 frames
+        let mut frame = [120u8; PIXELS];
+        let rel = wrap_deg(mover_deg - h).to_radians();
+        if rel.abs() < 0.6 {
+            let x = 49.0 + FOCAL_PX * rel.tan() + if i % 8 < 4 { 0.0 } else { 2.0 };
+            let x = x.round().clamp(0.0, 94.0) as usize;
+            for y in 34..38 {
+                for c in x..x + 4 {
+                    frame[y * WIDTH + c] = 30;
+                }
+            }
+        }
+        let vm = Visuomotor {
+            sighting: movers.step(&frame, standing, Params::default().look_change),
+            ..quiet()
+        };
+        let c = f.step(&vm, h);
+        standing = stopped(&c);
+        states.push(c.state);
+        odo.update(c.left_mm_s, c.right_mm_s, DT);
+        if i > 45 && c.state == State::Wander {
+            break;
+        }
+    }
+    // wandered 44 frames, then looked until it saw the object and set off towards it
+    assert!(states[..44].iter().all(|&s| s == State::Wander));
+    assert_eq!(*states.last().unwrap(), State::Wander, "{states:?}");
+    assert!(
+        states.len() < 200,
+        "found within three looks: {}",
+        states.len()
+    );
+    let h = odo.heading_deg();
+    for _ in 0..30 {
+        let c = f.step(&quiet(), odo.heading_deg());
+        odo.update(c.left_mm_s, c.right_mm_s, DT);
+    }
+    assert!(
+        err(odo.heading_deg(), mover_deg) < 8.0,
+        "from {h} to {}",
+        odo.heading_deg()
+    );
 }

@@ -97,7 +97,7 @@ pub struct AlvsController {
     /// network takes (`Params::derotate`).
     last_heading: Option<f32>,
     /// The swarm's look (`Params::look_change`), beside the network: only the swarm needs its
-    /// 2.7 KB, and the firmware, which escapes, has none.
+    /// 2.6 KB, and the firmware, which escapes, has none.
     movers: Movers,
     /// The wheels were commanded to stand still for this frame (the efference copy).
     standing: bool,

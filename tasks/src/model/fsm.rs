@@ -34,6 +34,17 @@ use crate::model::visuomotor::{wrap_deg, Visuomotor};
 /// Swarm: the turn in place between two looks that saw nothing, degrees (the camera sees 70°).
 pub const LOOK_TURN_DEG: f32 = 90.0;
 
+/// Swarm: at most this many further looks after one that saw nothing (`FsmParams::look_scans`
+/// is clamped to it): four looks 90° apart go round once; more would look where it has looked.
+pub const MAX_LOOK_SCANS: u32 = 3;
+
+/// Swarm: a look (the turn to its direction included) ends after this many frames without a
+/// report from the look beside the network (one that never reports: `Params::look_change` 0):
+/// 3 s, against 0.73 s for a look ([`crate::model::movers::SETTLE_FRAMES`] +
+/// [`crate::model::movers::SPAN_FRAMES`] standing frames) and ≈ 0.5 s for the 90° turn before
+/// it.
+pub const LOOK_TIMEOUT_FRAMES: u32 = 90;
+
 /// Motion state of the robot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum State {
@@ -196,14 +207,16 @@ pub struct FsmParams {
     /// 1/9, `docs/experiments.md`, "Closed-loop mechanisms"). Flies' saccades take 50 ms.
     pub saccade_gain: f32,
     /// Swarm: frames of wandering before the robot stops to look for moving objects (it also
-    /// looks after every spin). A look stands until the network reports what it saw
-    /// (`Params::look_change`, about 0.7 s); the robot then wanders towards the mover, or, with
+    /// looks after every spin). A look stands until the look beside the network reports what
+    /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
+    /// most [`LOOK_TIMEOUT_FRAMES`]); the robot then wanders towards the mover, or, with
     /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
-    /// wanders on. Spinning and driving robots are the movers a standing robot sees, so the
+    /// wanders on. A value much below a look's length leaves little wandering. Spinning and driving robots are the movers a standing robot sees, so the
     /// group gathers where the others spin ("moved toward a swarm leader", Sec. IV-D).
     /// 0 never looks (the paper). Measured in `docs/experiments.md`, "Swarm".
     pub look_every: u32,
-    /// Swarm: further looks, each 90° on, after a look that saw nothing.
+    /// Swarm: further looks, each 90° on, after a look that saw nothing; at most
+    /// [`MAX_LOOK_SCANS`] (a full circle).
     pub look_scans: u32,
 }
 
@@ -825,14 +838,16 @@ impl Fsm {
                         self.setpoint = wrap_deg(h + b);
                     }
                     // nothing here: turn on and look again
+                    // (from the last direction, not the heading: the turn stops within
+                    // `align_tol_deg` of it, and four short turns would not go round)
                     Some(None) if self.scans > 0 => {
                         self.scans -= 1;
-                        self.setpoint = wrap_deg(h + LOOK_TURN_DEG);
+                        self.setpoint = wrap_deg(self.setpoint + LOOK_TURN_DEG);
                         self.frames = 0;
                     }
                     Some(None) => self.enter_wander(h),
-                    // a network that never reports (`Params::look_change` 0) ends the look
-                    None if self.frames >= p.takeoff_timeout_frames => self.enter_wander(h),
+                    // a look that never reports (`Params::look_change` 0) ends
+                    None if self.frames >= LOOK_TIMEOUT_FRAMES => self.enter_wander(h),
                     None => {}
                 }
             }
@@ -860,7 +875,7 @@ impl Fsm {
         self.short_phase = None;
         self.setpoint = h;
         self.frames = 0;
-        self.scans = self.params.look_scans;
+        self.scans = self.params.look_scans.min(MAX_LOOK_SCANS);
     }
 
     /// Wheel speeds of the current state.

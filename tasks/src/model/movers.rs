@@ -8,7 +8,7 @@
 //! view moves. A spinning or driving robot is such an object; a wall is not.
 //!
 //! The stage runs beside the network, on the same frames, in whatever runs the swarm (the
-//! simulator's swarm robots; the firmware escapes and has none: it would cost 2.7 KB of RAM).
+//! simulator's swarm robots; the firmware escapes and has none: it would cost 2.6 KB of RAM, 2,674 B).
 //! While the robot's wheels are commanded to stand (an efference copy, [`Movers::step`]), the
 //! stage waits [`SETTLE_FRAMES`] for the wheels to stop (their lag is 50 ms: the residual
 //! turn of a robot that has just stopped changes every textured edge), takes the band of rows
@@ -36,7 +36,8 @@ pub const WINDOW: usize = 5;
 /// Changed pixels the window needs: a robot 800 mm away covers about 4 × 3 pixels.
 pub const MIN_PIXELS: u16 = 6;
 
-const BAND: usize = BAND_ROWS * WIDTH;
+/// Pixels of the band.
+pub const BAND: usize = BAND_ROWS * WIDTH;
 
 /// What a look found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,11 +88,6 @@ impl Movers {
         }
     }
 
-    /// Forgets the standing time: the next look waits the whole settle again.
-    pub fn restart(&mut self) {
-        self.standing = 0;
-    }
-
     /// One frame. `standing`: the wheels were commanded to stand still for this frame.
     /// `threshold`: grey levels a pixel must change by (0 turns the stage off). A look
     /// reports once, [`SETTLE_FRAMES`] + [`SPAN_FRAMES`] standing frames after the robot
@@ -105,7 +101,10 @@ impl Movers {
             return None;
         }
         self.standing = self.standing.saturating_add(1);
-        let band = frame.get(BAND_TOP * WIDTH..BAND_TOP * WIDTH + BAND)?;
+        let band: &[u8; BAND] = frame
+            .get(BAND_TOP * WIDTH..BAND_TOP * WIDTH + BAND)?
+            .try_into()
+            .ok()?;
         if self.standing <= SETTLE_FRAMES {
             if self.standing == SETTLE_FRAMES {
                 self.new_reference(band);
@@ -130,8 +129,8 @@ impl Movers {
         Some(seen)
     }
 
-    fn new_reference(&mut self, band: &[u8]) {
-        self.reference.copy_from_slice(band);
+    fn new_reference(&mut self, band: &[u8; BAND]) {
+        self.reference = *band;
         self.most = [0; WIDTH];
         self.standing = SETTLE_FRAMES;
     }
@@ -139,19 +138,21 @@ impl Movers {
 
 /// Per column, the pixels of two bands of [`BAND_ROWS`] rows that differ by more than
 /// `threshold` grey levels.
-pub fn changed(reference: &[u8], band: &[u8], threshold: u8) -> [u8; WIDTH] {
+pub fn changed(reference: &[u8; BAND], band: &[u8; BAND], threshold: u8) -> [u8; WIDTH] {
     let mut cols = [0u8; WIDTH];
     for (row_ref, row) in reference.chunks_exact(WIDTH).zip(band.chunks_exact(WIDTH)) {
         for ((c, &a), &b) in cols.iter_mut().zip(row_ref).zip(row) {
-            // at most BAND_ROWS = 26 per column
-            *c += u8::from(a.abs_diff(b) > threshold);
+            // at most BAND_ROWS (26) per column
+            *c = c.saturating_add(u8::from(a.abs_diff(b) > threshold));
         }
     }
     cols
 }
 
 /// The window of [`WINDOW`] columns with the most changed pixels `cols`, if it holds at
-/// least [`MIN_PIXELS`] (the first such window on a tie).
+/// least [`MIN_PIXELS`] and twice its share of all the change (the first such window on a
+/// tie): a change spread over the view (an exposure step that moved only the bright pixels)
+/// has no place and is no mover.
 pub fn strongest(cols: &[u8; WIDTH]) -> Sighting {
     let mut best = (0u16, 0usize);
     for (start, w) in cols.windows(WINDOW).enumerate() {
@@ -160,11 +161,12 @@ pub fn strongest(cols: &[u8; WIDTH]) -> Sighting {
             best = (sum, start);
         }
     }
-    if best.0 < MIN_PIXELS {
-        return Sighting::Nothing;
-    }
-    Sighting::Mover {
-        x: (best.1 + WINDOW / 2) as u8,
+    let total: u32 = cols.iter().map(|&c| u32::from(c)).sum();
+    // ≤ 130 · 99 and 2 · 5 · 2,574: no overflow
+    let stands_out = u32::from(best.0) * WIDTH as u32 >= 2 * WINDOW as u32 * total;
+    match u8::try_from(best.1 + WINDOW / 2) {
+        Ok(x) if best.0 >= MIN_PIXELS && stands_out => Sighting::Mover { x },
+        _ => Sighting::Nothing,
     }
 }
 
@@ -235,6 +237,62 @@ mod tests {
             .filter(|_| m.step(&after, true, 25).is_some())
             .collect();
         assert_eq!(&reports[..], &[SPAN_FRAMES, 2 * SPAN_FRAMES][..]);
+    }
+
+    #[test]
+    fn the_boundaries_hold() {
+        let before = [120u8; PIXELS];
+        let with = |pixels: &[(usize, usize)], grey: u8| {
+            let mut f = before;
+            for &(x, y) in pixels {
+                f[y * WIDTH + x] = grey;
+            }
+            f
+        };
+        // 6 changed pixels are a mover, 5 are not
+        let six: [(usize, usize); 6] = [(50, 30), (50, 31), (50, 32), (51, 30), (51, 31), (51, 32)];
+        assert_eq!(
+            look(&before, &with(&six, 0)),
+            Some(Sighting::Mover { x: 49 })
+        );
+        assert_eq!(look(&before, &with(&six[..5], 0)), Some(Sighting::Nothing));
+        // a change of exactly the threshold does not count, one more does
+        assert_eq!(look(&before, &with(&six, 145)), Some(Sighting::Nothing));
+        assert_eq!(
+            look(&before, &with(&six, 146)),
+            Some(Sighting::Mover { x: 49 })
+        );
+        // rows 24 and 49 are the band's first and last, 23 and 50 are outside it
+        let rows = |a: usize, b: usize| [(20, a), (21, a), (22, a), (20, b), (21, b), (22, b)];
+        assert_eq!(
+            look(&before, &with(&rows(24, 49), 0)),
+            Some(Sighting::Mover { x: 20 })
+        );
+        assert_eq!(
+            look(&before, &with(&rows(23, 50), 0)),
+            Some(Sighting::Nothing)
+        );
+    }
+
+    #[test]
+    fn a_change_spread_over_the_view_or_over_half_the_band_is_no_mover() {
+        let before = [120u8; PIXELS];
+        // three pixels in every column: a change without a place
+        let mut spread = before;
+        for x in 0..WIDTH {
+            for y in [30, 35, 40] {
+                spread[y * WIDTH + x] = 0;
+            }
+        }
+        assert_eq!(look(&before, &spread), Some(Sighting::Nothing));
+        // exactly half the band still looks; one pixel more is the light
+        let mut half = before;
+        for p in half[BAND_TOP * WIDTH..].iter_mut().take(BAND / 2) {
+            *p = 0;
+        }
+        assert!(look(&before, &half).is_some());
+        half[BAND_TOP * WIDTH + BAND / 2] = 0;
+        assert_eq!(look(&before, &half), None);
     }
 
     #[test]

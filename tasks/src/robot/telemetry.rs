@@ -18,7 +18,7 @@
 //! ```text
 //! line     = "F " u32 " st=" state " S=" milli " X=" tenths " sum=" u32 " cyc=" u32
 //!            " af=" afs [ "\r" ] "\n"
-//! state    = "wander" | "long_takeoff" | "escape" | "short_takeoff" | "spin"
+//! state    = "wander" | "long_takeoff" | "escape" | "short_takeoff" | "spin" | "look"
 //! milli    = uint "." DIGIT DIGIT DIGIT          ; value <= 1.000
 //! tenths   = "-" | uint "." DIGIT                ; value <= 98.0, "-" = no threat
 //! afs      = "-" | af *5( ";" af )               ; at most MAX_AFS = 6 fields

@@ -4,8 +4,14 @@ use super::*;
 use crate::experiments::Report;
 
 /// Controller states in the order tables and pictures list them.
-pub(super) const STATE_ORDER: [&str; 5] =
-    ["wander", "long_takeoff", "escape", "short_takeoff", "spin"];
+pub(super) const STATE_ORDER: [&str; 6] = [
+    "wander",
+    "long_takeoff",
+    "escape",
+    "short_takeoff",
+    "spin",
+    "look",
+];
 
 /// Short column heads of the states.
 pub(super) fn state_head(s: &str) -> &str {
