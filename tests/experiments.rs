@@ -282,6 +282,54 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
     assert!(end > 0.8 * start, "without looks: {start} → {end} mm");
 }
 
+/// `leader`: one more robot spins in place at the next start pose; the others start where
+/// they would without it, their distance to it is measured, and it is in the trails but not in
+/// the group's figures.
+#[test]
+fn a_swarm_leader_spins_in_place_beside_the_same_group() {
+    let run = |leader: bool| {
+        let config = SwarmConfig {
+            controllers: vec![Kind::Swarm],
+            minutes: 0.2,
+            leader,
+            ..SwarmConfig::default()
+        };
+        swarm::run(&config, 2, &|_| {})
+            .expect("a valid configuration")
+            .trials[0]
+            .clone()
+    };
+    let (with, without) = (run(true), run(false));
+    assert_eq!(with.trails.len(), 7);
+    assert_eq!(without.trails.len(), 6);
+    assert_eq!(
+        with.trails[..6].iter().map(|t| t[0]).collect::<Vec<_>>(),
+        without.trails.iter().map(|t| t[0]).collect::<Vec<_>>()
+    );
+    assert_eq!(with.spread_start_mm, without.spread_start_mm);
+    // the leader turns on the spot
+    let l = &with.trails[6];
+    let moved = l
+        .iter()
+        .map(|p| (p[0] - l[0][0]).hypot(p[1] - l[0][1]))
+        .fold(0.0, f64::max);
+    assert!(moved < 10.0, "the leader moved {moved} mm");
+    // the others' distance to it, once per second from the start
+    assert_eq!(with.leader_mm.len(), with.spread_mm.len());
+    let d0 = with.trails[..6]
+        .iter()
+        .map(|t| (t[0][0] - l[0][0]).hypot(t[0][1] - l[0][1]))
+        .sum::<f64>()
+        / 6.0;
+    assert!(
+        (with.leader_mm[0] - d0).abs() < 0.1,
+        "{} against {d0}",
+        with.leader_mm[0]
+    );
+    assert!(with.leader_last_minute_mm.is_some() && without.leader_last_minute_mm.is_none());
+    assert!(!with.state_fraction.contains_key("scripted"));
+}
+
 /// The paper's swarm (`--model paper`) never looks; the default's robots do.
 #[test]
 fn only_the_default_swarm_looks() {

@@ -244,6 +244,11 @@ struct SwarmArgs {
     /// Robots in the arena.
     #[arg(long, default_value_t = 6, value_name = "N")]
     robots: usize,
+    /// One more robot, a leader, spins in place the whole run (the paper's robots "moved
+    /// toward a swarm leader" but it does not say what the leader did); the others' mean
+    /// distance to it is reported.
+    #[arg(long)]
+    leader: bool,
     /// Controller (repeatable; one trial each). Default: swarm, and alvs as the reference.
     #[arg(long = "controller", value_enum, value_name = "NAME")]
     controllers: Vec<ControllerArg>,
@@ -770,6 +775,7 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
 fn run_swarm(a: SwarmArgs) -> Result<()> {
     let config = swarm::SwarmConfig {
         robots: a.robots,
+        leader: a.leader,
         minutes: a.minutes,
         controllers: kinds(&a.controllers, &[Kind::Swarm, Kind::Alvs]),
         seed: a.common.seed,

@@ -10,8 +10,10 @@
 //! Per trial: both at the start and averaged over the first and the last minute (or the whole
 //! trial if shorter), the time per controller state, and robot–robot collisions per minute
 //! (the arena's counting). The paper's swarm moved "toward a swarm leader and eventually
-//! clustered together"; our robots have no leader (the paper does not say how one was
-//! designated), so the experiment measures what spin-on-approach alone does to a group.
+//! clustered together"; it does not say how the leader was designated or what it did. By
+//! default there is none; `leader` adds one more robot that spins in place for the whole run
+//! (a robot the others can see move), at the next start pose, and measures the others'
+//! distance to it. The spread, nearest neighbours, collisions and states are the others'.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -22,10 +24,11 @@ use serde::Serialize;
 
 use super::arena::start_poses;
 use super::{parallel, Report};
+use crate::arena::controller::Scripted;
 use crate::arena::{
     GyroParams, Kind, MotorParams, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
 };
-use crate::canvas::{colour_cycle, Plot};
+use crate::canvas::{colour_cycle, Plot, BLACK};
 
 /// Random stream of the controllers' seeds (robot `i` takes sub-stream `i`).
 const CONTROLLER_STREAM: u64 = 0x5aa2;
@@ -37,8 +40,10 @@ const SAMPLE_EVERY: u64 = 30;
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct SwarmConfig {
-    /// Robots in the arena.
+    /// Robots in the arena (without the leader).
     pub robots: usize,
+    /// One more robot, the leader, spins in place at the swarm's spin rate the whole run.
+    pub leader: bool,
     /// Simulated minutes per trial.
     pub minutes: f64,
     /// Controllers compared (one trial each).
@@ -62,6 +67,7 @@ impl Default for SwarmConfig {
     fn default() -> Self {
         SwarmConfig {
             robots: 6,
+            leader: false,
             minutes: 5.0,
             controllers: vec![Kind::Swarm, Kind::Alvs],
             seed: 1,
@@ -124,6 +130,12 @@ pub struct SwarmTrial {
     pub nearest_first_minute_mm: f64,
     /// Mean nearest-neighbour distance over the last minute, mm.
     pub nearest_last_minute_mm: f64,
+    /// With a leader: the robots' mean distance to it, mm, once per second from t = 0.
+    pub leader_mm: Vec<f64>,
+    /// With a leader: that distance over the first minute, mm.
+    pub leader_first_minute_mm: Option<f64>,
+    /// With a leader: that distance over the last minute, mm.
+    pub leader_last_minute_mm: Option<f64>,
     /// Robot–robot collision episodes per simulated minute.
     pub robot_collisions_per_minute: f64,
     /// Fraction of robot-frames in each state.
@@ -182,7 +194,11 @@ pub fn run(
 ) -> Result<SwarmReport> {
     let texture = config.validate()?;
     let arena = World::default().arena;
-    let starts = start_poses(&arena, config.robots, config.seed)?;
+    // the leader takes the next start pose: the others start where they would without it
+    let leader = usize::from(config.leader);
+    let all_starts = start_poses(&arena, config.robots + leader, config.seed)?;
+    let starts = &all_starts[..config.robots];
+    let spin_wheel_mm_s = leader_wheel_mm_s(&config.fsm);
     let t0 = std::time::Instant::now();
     let trials = parallel::map(config.controllers.len(), jobs, |c| {
         let t = std::time::Instant::now();
@@ -202,18 +218,47 @@ pub fn run(
                 },
             );
         }
+        if let Some(p) = all_starts.get(config.robots).filter(|_| config.leader) {
+            sim.add(
+                *p,
+                Box::new(Scripted {
+                    left_mm_s: spin_wheel_mm_s,
+                    right_mm_s: -spin_wheel_mm_s,
+                }),
+                MotorParams::default(),
+                GyroParams::default(),
+                SensorNoise::typical(),
+            );
+        }
+        // the robots (the leader, if any, is the last body)
         let points = |sim: &Sim| -> Vec<(f64, f64)> {
-            sim.physics
-                .poses()
+            sim.physics.poses()[..config.robots]
                 .iter()
                 .map(|p| (p.x_mm, p.y_mm))
                 .collect()
         };
+        let to_leader = |sim: &Sim| -> Option<f64> {
+            let l = sim
+                .physics
+                .poses()
+                .get(config.robots)
+                .filter(|_| config.leader)?;
+            let pts = points(sim);
+            Some(
+                pts.iter()
+                    .map(|p| (p.0 - l.x_mm).hypot(p.1 - l.y_mm))
+                    .sum::<f64>()
+                    / pts.len() as f64,
+            )
+        };
         let (s0, n0) = spread(&points(&sim));
         let (s0, n0) = (round1(s0), round1(n0));
         let (mut spreads, mut nearest) = (vec![s0], vec![n0]);
-        let mut trails: Vec<Vec<[f64; 2]>> =
-            starts.iter().map(|p| vec![[p.x_mm, p.y_mm]]).collect();
+        let mut leader_mm: Vec<f64> = to_leader(&sim).map(round1).into_iter().collect();
+        let mut trails: Vec<Vec<[f64; 2]>> = all_starts[..config.robots + leader]
+            .iter()
+            .map(|p| vec![[p.x_mm, p.y_mm]])
+            .collect();
         let frames = config.frames();
         for f in 1..=frames {
             sim.step();
@@ -221,6 +266,7 @@ pub fn run(
                 let (s, n) = spread(&points(&sim));
                 spreads.push(round1(s));
                 nearest.push(round1(n));
+                leader_mm.extend(to_leader(&sim).map(round1));
                 progress(SAMPLE_EVERY);
             }
             if f % TRAIL_EVERY == 0 {
@@ -235,7 +281,7 @@ pub fn run(
         let head = |v: &[f64]| v[..window].iter().sum::<f64>() / window as f64;
         let tail = |v: &[f64]| v[v.len() - window..].iter().sum::<f64>() / window as f64;
         let mut states: BTreeMap<String, u64> = BTreeMap::new();
-        for robot in sim.state_frames() {
+        for robot in sim.state_frames().iter().take(config.robots) {
             for (s, n) in robot {
                 *states.entry((*s).to_string()).or_insert(0) += n;
             }
@@ -250,6 +296,9 @@ pub fn run(
             spread_last_minute_mm: round1(tail(&spreads)),
             nearest_first_minute_mm: round1(head(&nearest)),
             nearest_last_minute_mm: round1(tail(&nearest)),
+            leader_first_minute_mm: (!leader_mm.is_empty()).then(|| round1(head(&leader_mm))),
+            leader_last_minute_mm: (!leader_mm.is_empty()).then(|| round1(tail(&leader_mm))),
+            leader_mm,
             robot_collisions_per_minute: sim.physics.counts().robot_robot.collisions as f64
                 / minutes,
             state_fraction: states
@@ -269,6 +318,11 @@ pub fn run(
     })
 }
 
+/// Wheel speeds of a spin in place at the swarm's spin rate (`FsmParams::spin_deg_s`), mm/s.
+fn leader_wheel_mm_s(fsm: &alvs_tasks::model::fsm::FsmParams) -> f32 {
+    fsm.spin_deg_s.to_radians() * fsm.track_mm / 2.0
+}
+
 fn round1(v: f64) -> f64 {
     (v * 10.0).round() / 10.0
 }
@@ -279,7 +333,7 @@ impl Report for SwarmReport {
         let c = &self.config;
         super::per_controller_json(
             self.trials.iter().map(|t| (t.controller.to_string(), t)),
-            serde_json::json!({"robots": c.robots, "minutes": c.minutes, "seed": c.seed,
+            serde_json::json!({"robots": c.robots, "leader": c.leader, "minutes": c.minutes, "seed": c.seed,
                                "background": c.background}),
         )
     }
@@ -291,8 +345,17 @@ impl Report for SwarmReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "swarm: {} robots, {} min, background {}, seed {}, {:.1} s",
-            c.robots, c.minutes, c.background, c.seed, self.wall_clock_s
+            "swarm: {} robots{}, {} min, background {}, seed {}, {:.1} s",
+            c.robots,
+            if c.leader {
+                " and a spinning leader"
+            } else {
+                ""
+            },
+            c.minutes,
+            c.background,
+            c.seed,
+            self.wall_clock_s
         );
         let _ = writeln!(
             out,
@@ -322,6 +385,15 @@ impl Report for SwarmReport {
                 100.0 * t.state_fraction.get("look").copied().unwrap_or(0.0)
             );
         }
+        for t in &self.trials {
+            if let (Some(a), Some(b)) = (t.leader_first_minute_mm, t.leader_last_minute_mm) {
+                let _ = writeln!(
+                    out,
+                    "{:<8} mean distance to the leader: {a:.0} mm over the first minute, {b:.0} mm over the last",
+                    t.controller
+                );
+            }
+        }
         let _ = writeln!(
             out,
             "(spread: RMS distance from the group's centroid, mm; nn: mean nearest-neighbour distance, mm)"
@@ -344,6 +416,10 @@ impl Report for SwarmReport {
             plot = plot
                 .series(&format!("{} spread", t.controller), &s)
                 .series(&format!("{} nearest", t.controller), &n);
+            if !t.leader_mm.is_empty() {
+                let l: Vec<f32> = t.leader_mm.iter().map(|&v| v as f32).collect();
+                plot = plot.series(&format!("{} to the leader", t.controller), &l);
+            }
         }
         let mut paths = Vec::new();
         let path = dir.join("swarm_spread.png");
@@ -364,9 +440,11 @@ impl Report for SwarmReport {
             ));
             for (i, tr) in t.trails.iter().enumerate() {
                 let pts: Vec<(f64, f64)> = tr.iter().map(|p| (p[0], p[1])).collect();
-                td.trail(&pts, colour_cycle(i));
+                // the leader, the last trail, in black
+                let colour = if i < t.robots { colour_cycle(i) } else { BLACK };
+                td.trail(&pts, colour);
                 if let Some(e) = pts.last() {
-                    td.robot(&crate::arena::Pose::new(e.0, e.1, 0.0), colour_cycle(i));
+                    td.robot(&crate::arena::Pose::new(e.0, e.1, 0.0), colour);
                 }
             }
             let c = td.into_canvas();
