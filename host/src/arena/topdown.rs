@@ -18,6 +18,18 @@ const FLOOR: Rgb = [236, 236, 230];
 const WALL: Rgb = [60, 60, 60];
 const INK: Rgb = [20, 20, 20];
 
+/// What a [`TopDown`] draws, and so how it is finished.
+#[derive(Debug, Clone)]
+enum View {
+    /// The whole arena, walls drawn, the title written straight above it.
+    Arena,
+    /// A close-up ([`TopDown::window`]), framed with its title when finished.
+    Window {
+        /// The title, drawn with the frame.
+        title: String,
+    },
+}
+
 /// A top-down drawing of an arena.
 #[derive(Debug, Clone)]
 pub struct TopDown {
@@ -26,8 +38,7 @@ pub struct TopDown {
     origin: (i32, i32),
     /// The arena point drawn at `origin`, mm ((0, 0) for the whole arena).
     corner_mm: (f64, f64),
-    /// A close-up ([`TopDown::window`]): its title, drawn with the frame when finished.
-    window_title: Option<String>,
+    view: View,
 }
 
 impl TopDown {
@@ -57,7 +68,7 @@ impl TopDown {
             px_per_mm: k,
             origin,
             corner_mm: (0.0, 0.0),
-            window_title: None,
+            view: View::Arena,
         }
     }
 
@@ -78,7 +89,9 @@ impl TopDown {
             px_per_mm: k,
             origin: (0, 0),
             corner_mm: (finite(x_mm), finite(y_mm)),
-            window_title: Some(String::new()),
+            view: View::Window {
+                title: String::new(),
+            },
         }
     }
 
@@ -96,9 +109,9 @@ impl TopDown {
 
     /// Writes `text` above the arena.
     pub fn title(&mut self, text: &str) {
-        match &mut self.window_title {
-            Some(t) => *t = text.to_string(),
-            None => self.canvas.text(MARGIN, 3, text, INK, 1),
+        match &mut self.view {
+            View::Window { title } => *title = text.to_string(),
+            View::Arena => self.canvas.text(MARGIN, 3, text, INK, 1),
         }
     }
 
@@ -175,7 +188,7 @@ impl TopDown {
 
     /// The finished picture.
     pub fn into_canvas(self) -> Canvas {
-        let Some(title) = self.window_title else {
+        let View::Window { title } = self.view else {
             return self.canvas;
         };
         let (w, h) = (self.canvas.width, self.canvas.height);
