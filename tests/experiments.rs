@@ -270,28 +270,38 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
             t.spread_start_mm,
             t.spread_last_minute_mm,
             t.nearest_last_minute_mm,
+            t.state_fraction.get("look").copied().unwrap_or(0.0),
+            t.robot_collisions_per_minute,
         )
     };
-    let (start, end, nearest) = run(FsmParams::default().look_every);
+    let (start, end, nearest, look, collisions) = run(FsmParams::default().look_every);
     assert!(end < 0.5 * start, "the default: {start} → {end} mm");
     assert!(
         nearest < 100.0,
         "the default's nearest neighbour: {nearest} mm"
     );
-    let (start, end, _) = run(0);
+    assert!(look > 0.1, "it looked {look} of the time");
+    // the spin on the floor line's obstacle: they gather without bumping into each other
+    assert!(
+        collisions < 1.0,
+        "{collisions} robot–robot collisions a minute"
+    );
+    let (start, end, ..) = run(0);
     assert!(end > 0.8 * start, "without looks: {start} → {end} mm");
 }
 
-/// `leader`: one more robot spins in place at the next start pose; the others start where
-/// they would without it, their distance to it is measured, and it is in the trails but not in
-/// the group's figures.
+/// `leader`: one more robot spins in place among the others, who start where they would
+/// without it; their distance to it is measured, and it is in the trails (last) but not in the
+/// group's figures.
 #[test]
 fn a_swarm_leader_spins_in_place_beside_the_same_group() {
-    let run = |leader: bool| {
+    let run = |leader: bool, robots: usize| {
         let config = SwarmConfig {
             controllers: vec![Kind::Swarm],
             minutes: 0.2,
+            robots,
             leader,
+            seed: 2,
             ..SwarmConfig::default()
         };
         swarm::run(&config, 2, &|_| {})
@@ -299,43 +309,48 @@ fn a_swarm_leader_spins_in_place_beside_the_same_group() {
             .trials[0]
             .clone()
     };
-    let (with, without) = (run(true), run(false));
-    assert_eq!(with.trails.len(), 7);
-    assert_eq!(without.trails.len(), 6);
-    assert_eq!(
-        with.trails[..6].iter().map(|t| t[0]).collect::<Vec<_>>(),
-        without.trails.iter().map(|t| t[0]).collect::<Vec<_>>()
-    );
-    assert_eq!(with.spread_start_mm, without.spread_start_mm);
-    // the leader turns on the spot
-    let l = &with.trails[6];
-    let moved = l
-        .iter()
-        .map(|p| (p[0] - l[0][0]).hypot(p[1] - l[0][1]))
-        .fold(0.0, f64::max);
-    assert!(moved < 10.0, "the leader moved {moved} mm");
-    // the others' distance to it, once per second from the start
-    assert_eq!(with.leader_mm.len(), with.spread_mm.len());
-    let d0 = with.trails[..6]
-        .iter()
-        .map(|t| (t[0][0] - l[0][0]).hypot(t[0][1] - l[0][1]))
-        .sum::<f64>()
-        / 6.0;
-    assert!(
-        (with.leader_mm[0] - d0).abs() < 0.1,
-        "{} against {d0}",
-        with.leader_mm[0]
-    );
-    assert!(with.leader_last_minute_mm.is_some() && without.leader_last_minute_mm.is_none());
-    assert!(!with.state_fraction.contains_key("scripted"));
+    for robots in [6, 20] {
+        let (with, without) = (run(true, robots), run(false, robots));
+        assert_eq!(with.trails.len(), robots + 1);
+        assert_eq!(without.trails.len(), robots);
+        let start =
+            |t: &swarm::SwarmTrial| t.trails[..robots].iter().map(|p| p[0]).collect::<Vec<_>>();
+        assert_eq!(start(&with), start(&without));
+        assert_eq!(
+            (with.spread_mm[0], with.nearest_mm[0]),
+            (without.spread_mm[0], without.nearest_mm[0])
+        );
+        // the leader turns on the spot
+        let l = &with.trails[robots];
+        let moved = l
+            .iter()
+            .map(|p| (p[0] - l[0][0]).hypot(p[1] - l[0][1]))
+            .fold(0.0, f64::max);
+        assert!(moved < 10.0, "the leader moved {moved} mm");
+        // the others' mean distance to it, once per second from the start
+        assert_eq!(with.leader_mm.len(), with.spread_mm.len());
+        let d0 = with.trails[..robots]
+            .iter()
+            .map(|t| (t[0][0] - l[0][0]).hypot(t[0][1] - l[0][1]))
+            .sum::<f64>()
+            / robots as f64;
+        assert!(
+            (with.leader_mm[0] - d0).abs() < 0.1,
+            "{} against {d0}",
+            with.leader_mm[0]
+        );
+        assert!(without.leader_last_minute_mm.is_none() && without.leader_mm.is_empty());
+        assert!(!with.state_fraction.contains_key("scripted"));
+    }
 }
 
-/// The paper's swarm (`--model paper`) never looks; the default's robots do.
+/// The paper's swarm (`--model paper`) never looks, nor do escaping robots; the default's
+/// swarm robots do.
 #[test]
 fn only_the_default_swarm_looks() {
-    let looked = |params: Params, fsm: FsmParams| {
+    let looked = |kind: Kind, params: Params, fsm: FsmParams| {
         let config = SwarmConfig {
-            controllers: vec![Kind::Swarm],
+            controllers: vec![kind],
             minutes: 0.5,
             params,
             fsm,
@@ -348,8 +363,13 @@ fn only_the_default_swarm_looks() {
             .copied()
             .unwrap_or(0.0)
     };
-    assert_eq!(looked(Params::PAPER, FsmParams::PAPER), 0.0);
-    assert!(looked(Params::default(), FsmParams::default()) > 0.1);
+    assert_eq!(looked(Kind::Swarm, Params::PAPER, FsmParams::PAPER), 0.0);
+    assert!(looked(Kind::Swarm, Params::default(), FsmParams::default()) > 0.1);
+    // the escape never looks, whatever its parameters
+    assert_eq!(
+        looked(Kind::Alvs, Params::default(), FsmParams::default()),
+        0.0
+    );
 }
 
 /// Spin on approach alone, without looks: six robots draw together only while they spin on

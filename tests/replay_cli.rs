@@ -163,33 +163,42 @@ fn a_reader_that_stops_early_ends_the_replay_quietly() {
 fn a_swarm_replay_looks_and_sets_off_towards_what_moves() {
     use alvs_host::replay::Pipeline;
     use alvs_tasks::model::fsm::{Behaviour, FsmParams, State};
+    use alvs_tasks::model::movers::Sighting;
     use alvs_tasks::{Params, PIXELS, WIDTH};
     let run = |moving: bool| {
         let mut pipe =
             Pipeline::new(Params::default(), FsmParams::default(), Behaviour::Swarm).unwrap();
-        let mut states = Vec::new();
+        let (mut states, mut seen) = (Vec::new(), Vec::new());
         for i in 0..70usize {
             let mut f = [120u8; PIXELS];
-            // a small dark object near the horizon, drifting right a column a frame
+            // a small dark object near the horizon, drifting right a column every two frames
             let x0 = if moving { 60 + i / 2 } else { 70 };
             for y in 33..38 {
                 for x in x0..x0 + 4 {
                     f[y * WIDTH + x] = 40;
                 }
             }
-            pipe.step(&f);
+            let (out, _) = pipe.step(&f);
             states.push(pipe.fsm.state());
+            seen.push(out.vm.sighting);
         }
-        states
+        (states, seen)
     };
     // 45 frames of wandering, then the look: 10 frames to settle and 12 to watch
-    let moving = run(true);
+    let (moving, seen) = run(true);
     assert_eq!(moving[43], State::Wander);
     assert!(
         moving[44..66].iter().all(|&s| s == State::Look),
         "{moving:?}"
     );
+    // the look ends on frame 66 and finds the object (columns 87–96 by then) on the right
+    assert!(seen[..66].iter().all(Option::is_none));
+    let Some(Sighting::Mover { x }) = seen[66] else {
+        panic!("{:?}", seen[66]);
+    };
+    assert!((80..=96).contains(&x), "{x}");
     assert_eq!(moving[66], State::Wander, "set off towards the mover");
-    let still = run(false);
+    let (still, seen) = run(false);
+    assert_eq!(seen[66], Some(Sighting::Nothing));
     assert_eq!(still[66], State::Look, "turning to look elsewhere");
 }

@@ -126,7 +126,7 @@ struct CommonArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain.
+    /// escape_saccade saccade_gain look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -241,7 +241,7 @@ struct SwarmArgs {
         value_name = "M"
     )]
     minutes: f64,
-    /// Robots in the arena.
+    /// Robots in the arena (not counting the leader).
     #[arg(long, default_value_t = 6, value_name = "N")]
     robots: usize,
     /// One more robot, a leader, spins in place the whole run (the paper's robots "moved
@@ -333,7 +333,7 @@ struct ArenaArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain.
+    /// escape_saccade saccade_gain look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -358,7 +358,7 @@ struct ModelArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain.
+    /// escape_saccade saccade_gain look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

@@ -26,7 +26,7 @@ use super::arena::start_poses;
 use super::{parallel, Report};
 use crate::arena::controller::Scripted;
 use crate::arena::{
-    GyroParams, Kind, MotorParams, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
+    GyroParams, Kind, MotorParams, Pose, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Plot, BLACK};
 
@@ -140,7 +140,7 @@ pub struct SwarmTrial {
     pub robot_collisions_per_minute: f64,
     /// Fraction of robot-frames in each state.
     pub state_fraction: BTreeMap<String, f64>,
-    /// Positions, five per second, mm.
+    /// Positions, five per second, mm: the robots', then the leader's (if any).
     pub trails: Vec<Vec<[f64; 2]>>,
     /// Wall-clock seconds.
     pub wall_clock_s: f64,
@@ -194,11 +194,15 @@ pub fn run(
 ) -> Result<SwarmReport> {
     let texture = config.validate()?;
     let arena = World::default().arena;
-    // the leader takes the next start pose: the others start where they would without it
-    let leader = usize::from(config.leader);
-    let all_starts = start_poses(&arena, config.robots + leader, config.seed)?;
-    let starts = &all_starts[..config.robots];
-    let spin_wheel_mm_s = leader_wheel_mm_s(&config.fsm);
+    // the others start where they would without a leader; the leader finds room among them
+    let starts = start_poses(&arena, config.robots, config.seed)?;
+    let leader_pose = if config.leader {
+        Some(leader_pose(&arena, &starts, config.seed)?)
+    } else {
+        None
+    };
+    let all_starts: Vec<Pose> = starts.iter().copied().chain(leader_pose).collect();
+    let (spin_left, spin_right) = leader_wheels_mm_s(&config.fsm);
     let t0 = std::time::Instant::now();
     let trials = parallel::map(config.controllers.len(), jobs, |c| {
         let t = std::time::Instant::now();
@@ -218,12 +222,12 @@ pub fn run(
                 },
             );
         }
-        if let Some(p) = all_starts.get(config.robots).filter(|_| config.leader) {
+        if let Some(p) = leader_pose {
             sim.add(
-                *p,
+                p,
                 Box::new(Scripted {
-                    left_mm_s: spin_wheel_mm_s,
-                    right_mm_s: -spin_wheel_mm_s,
+                    left_mm_s: spin_left,
+                    right_mm_s: spin_right,
                 }),
                 MotorParams::default(),
                 GyroParams::default(),
@@ -255,10 +259,8 @@ pub fn run(
         let (s0, n0) = (round1(s0), round1(n0));
         let (mut spreads, mut nearest) = (vec![s0], vec![n0]);
         let mut leader_mm: Vec<f64> = to_leader(&sim).map(round1).into_iter().collect();
-        let mut trails: Vec<Vec<[f64; 2]>> = all_starts[..config.robots + leader]
-            .iter()
-            .map(|p| vec![[p.x_mm, p.y_mm]])
-            .collect();
+        let mut trails: Vec<Vec<[f64; 2]>> =
+            all_starts.iter().map(|p| vec![[p.x_mm, p.y_mm]]).collect();
         let frames = config.frames();
         for f in 1..=frames {
             sim.step();
@@ -299,8 +301,7 @@ pub fn run(
             leader_first_minute_mm: (!leader_mm.is_empty()).then(|| round1(head(&leader_mm))),
             leader_last_minute_mm: (!leader_mm.is_empty()).then(|| round1(tail(&leader_mm))),
             leader_mm,
-            robot_collisions_per_minute: sim.physics.counts().robot_robot.collisions as f64
-                / minutes,
+            robot_collisions_per_minute: robot_collisions(&sim, config.robots) as f64 / minutes,
             state_fraction: states
                 .iter()
                 .map(|(s, &n)| (s.clone(), n as f64 / total as f64))
@@ -318,9 +319,55 @@ pub fn run(
     })
 }
 
-/// Wheel speeds of a spin in place at the swarm's spin rate (`FsmParams::spin_deg_s`), mm/s.
-fn leader_wheel_mm_s(fsm: &alvs_tasks::model::fsm::FsmParams) -> f32 {
-    fsm.spin_deg_s.to_radians() * fsm.track_mm / 2.0
+/// Wheel speeds of a spin in place at the swarm's spin rate, mm/s, as the swarm robots spin
+/// (`FsmParams::spin_deg_s` through the FSM's wheel limit).
+fn leader_wheels_mm_s(fsm: &alvs_tasks::model::fsm::FsmParams) -> (f32, f32) {
+    alvs_tasks::model::fsm::mix(0.0, fsm.spin_deg_s.to_radians(), fsm)
+}
+
+/// Random stream of the leader's start pose.
+const LEADER_STREAM: u64 = 0x1ead;
+
+/// A start pose for the leader as far from the walls and from the robots at `starts` as the
+/// arena's start poses are from each other ([`super::arena::START_SEPARATION_MM`],
+/// [`super::arena::START_WALL_CLEARANCE_MM`]); the first of 20,000 random tries that fits.
+pub fn leader_pose(arena: &crate::arena::Arena, starts: &[Pose], seed: u64) -> Result<Pose> {
+    let (m, sep) = (
+        super::arena::START_WALL_CLEARANCE_MM,
+        super::arena::START_SEPARATION_MM,
+    );
+    let (w, h) = (arena.size_x_mm - 2.0 * m, arena.size_y_mm - 2.0 * m);
+    let mut rng = Rng::new(seed).fork(LEADER_STREAM);
+    for _ in 0..20_000 {
+        let p = Pose::new(
+            m + w * rng.uniform(),
+            m + h * rng.uniform(),
+            rng.range(-180.0, 180.0),
+        );
+        if w >= 0.0 && h >= 0.0 && starts.iter().all(|q| q.distance_to(&p) >= sep) {
+            return Ok(p);
+        }
+    }
+    anyhow::bail!(
+        "no room for the leader among {} robots ({sep} mm apart, {m} mm from the walls); use \
+         fewer robots",
+        starts.len()
+    )
+}
+
+/// Robot–robot collision episodes among the first `robots` bodies (not with the leader).
+fn robot_collisions(sim: &Sim, robots: usize) -> usize {
+    use crate::arena::{EventKind, Other};
+    sim.physics
+        .contacts()
+        .events()
+        .iter()
+        .filter(|e| {
+            e.kind == EventKind::Collision
+                && matches!(e.other, Other::Robot(j) if j < robots)
+                && e.robot < robots
+        })
+        .count()
 }
 
 fn round1(v: f64) -> f64 {
@@ -431,9 +478,10 @@ impl Report for SwarmReport {
             let arena = World::default().arena;
             let mut td = TopDown::new(&arena, 0.5);
             td.title(&format!(
-                "{}: {} robots, {:.1} min; spread {:.0} mm at the start, {:.0} mm over the last minute",
+                "{}: {} robots{}, {:.1} min; spread {:.0} mm at the start, {:.0} mm over the last minute",
                 t.controller.to_uppercase(),
                 t.robots,
+                if t.leader_mm.is_empty() { "" } else { " and a leader (black)" },
                 t.minutes,
                 t.spread_start_mm,
                 t.spread_last_minute_mm
@@ -454,5 +502,40 @@ impl Report for SwarmReport {
             paths.push(path);
         }
         Ok(paths)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alvs_tasks::model::fsm::FsmParams;
+
+    #[test]
+    fn the_leader_spins_in_place_at_the_swarms_rate_within_the_wheel_limit() {
+        let p = FsmParams::default();
+        let (l, r) = leader_wheels_mm_s(&p);
+        assert_eq!(l, -r, "in place");
+        let yaw_deg_s = ((l - r) / p.track_mm).to_degrees();
+        assert!((yaw_deg_s - p.spin_deg_s).abs() < 1e-3, "{yaw_deg_s}");
+        let slow = FsmParams {
+            max_wheel_mm_s: 20.0,
+            ..p
+        };
+        assert_eq!(leader_wheels_mm_s(&slow), (20.0, -20.0));
+    }
+
+    #[test]
+    fn the_leader_finds_room_among_the_robots_or_says_why_not() {
+        let arena = World::default().arena;
+        let starts = start_poses(&arena, 20, 2).unwrap();
+        let l = leader_pose(&arena, &starts, 2).unwrap();
+        let sep = super::super::arena::START_SEPARATION_MM;
+        assert!(starts.iter().all(|q| q.distance_to(&l) >= sep));
+        // a robot everywhere: no room
+        let crowd: Vec<Pose> = (0..40)
+            .flat_map(|i| (0..30).map(move |j| Pose::new(30.0 * i as f64, 30.0 * j as f64, 0.0)))
+            .collect();
+        let e = leader_pose(&arena, &crowd, 2).unwrap_err().to_string();
+        assert!(e.contains("no room for the leader"), "{e}");
     }
 }

@@ -8,7 +8,8 @@
 //! view moves. A spinning or driving robot is such an object; a wall is not.
 //!
 //! The stage runs beside the network, on the same frames, in whatever runs the swarm (the
-//! simulator's swarm robots; the firmware escapes and has none: it would cost 2.6 KB of RAM, 2,674 B).
+//! simulator's swarm robots, the replay's swarm mode; the firmware escapes and has none: it
+//! would cost 2.6 KB of RAM, 2,674 B).
 //! While the robot's wheels are commanded to stand (an efference copy, [`Movers::step`]), the
 //! stage waits [`SETTLE_FRAMES`] for the wheels to stop (their lag is 50 ms: the residual
 //! turn of a robot that has just stopped changes every textured edge), takes the band of rows
