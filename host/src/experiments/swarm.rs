@@ -12,8 +12,8 @@
 //! (the arena's counting). The paper's swarm moved "toward a swarm leader and eventually
 //! clustered together"; it does not say how the leader was designated or what it did. By
 //! default there is none; `leader` adds one more robot that spins in place for the whole run
-//! (a robot the others can see move), at the next start pose, and measures the others'
-//! distance to it. The spread, nearest neighbours, collisions and states are the others'.
+//! (a robot the others can see move), at a free place among the others' start poses, and
+//! measures the others' distance to it. The spread, nearest neighbours, collisions and states are the others'.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -211,9 +211,10 @@ pub struct FsmParams {
     /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
     /// most [`LOOK_TIMEOUT_FRAMES`]); the robot then wanders towards the mover, or, with
     /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
-    /// wanders on. A value much below a look's length leaves little wandering. Spinning and driving robots are the movers a standing robot sees, so the
-    /// group gathers where the others spin ("moved toward a swarm leader", Sec. IV-D).
-    /// 0 never looks (the paper). Measured in `docs/experiments.md`, "Swarm".
+    /// wanders on. A value much below a look's length leaves little wandering. Spinning and
+    /// driving robots are the movers a standing robot sees, so the group gathers where the
+    /// others spin (the paper's robots "moved toward a swarm leader", Sec. IV-D). 0 never
+    /// looks (the paper). Measured in `docs/experiments.md`, "Swarm".
     pub look_every: u32,
     /// Swarm: further looks, each 90° on, after a look that saw nothing; at most
     /// [`MAX_LOOK_SCANS`] (a full circle).
