@@ -16,6 +16,13 @@ use alvs_tasks::Params;
 mod common;
 use common::{alvs, read_json, succeed};
 
+/// The one trial of a swarm run with a single controller (on 2 threads).
+fn one_swarm_trial(config: SwarmConfig) -> swarm::SwarmTrial {
+    let mut r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
+    assert_eq!(r.trials.len(), 1, "one controller");
+    r.trials.remove(0)
+}
+
 fn alvs_only() -> Vec<Kind> {
     vec![Kind::Alvs]
 }
@@ -264,8 +271,7 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
             },
             ..SwarmConfig::default()
         };
-        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
-        let t = &r.trials[0];
+        let t = one_swarm_trial(config);
         (
             t.spread_start_mm,
             t.spread_last_minute_mm,
@@ -304,10 +310,7 @@ fn a_swarm_leader_spins_in_place_beside_the_same_group() {
             seed: 2,
             ..SwarmConfig::default()
         };
-        swarm::run(&config, 2, &|_| {})
-            .expect("a valid configuration")
-            .trials[0]
-            .clone()
+        one_swarm_trial(config)
     };
     for robots in [6, 20] {
         let (with, without) = (run(true, robots), run(false, robots));
@@ -356,12 +359,8 @@ fn only_the_default_swarm_looks() {
             fsm,
             ..SwarmConfig::default()
         };
-        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
-        r.trials[0]
-            .state_fraction
-            .get("look")
-            .copied()
-            .unwrap_or(0.0)
+        let t = one_swarm_trial(config);
+        t.state_fraction.get("look").copied().unwrap_or(0.0)
     };
     assert_eq!(looked(Kind::Swarm, Params::PAPER, FsmParams::PAPER), 0.0);
     assert!(looked(Kind::Swarm, Params::default(), FsmParams::default()) > 0.1);
@@ -396,8 +395,7 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
             },
             ..SwarmConfig::default()
         };
-        let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
-        let t = &r.trials[0];
+        let t = one_swarm_trial(config);
         (t.spread_start_mm, t.spread_last_minute_mm)
     };
     let (start, end) = spin(FsmParams::default().spin_deg_s);

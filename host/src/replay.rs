@@ -82,7 +82,7 @@ impl Pipeline {
             out.vm.sighting = m.step(frame, self.standing, self.net.params().look_change);
         }
         let cmd = self.fsm.step(&out.vm, self.odometry.heading_deg());
-        self.standing = cmd.left_mm_s == 0.0 && cmd.right_mm_s == 0.0;
+        self.standing = cmd.stands();
         self.odometry.update(cmd.left_mm_s, cmd.right_mm_s, DT_S);
         let json = FrameJson {
             frame: out.frame,

@@ -40,7 +40,7 @@ pub(crate) fn err(a: f32, b: f32) -> f32 {
 }
 
 pub(crate) fn stopped(c: &MotorCommand) -> bool {
-    c.left_mm_s == 0.0 && c.right_mm_s == 0.0
+    c.stands()
 }
 
 pub(crate) fn tol() -> f32 {

@@ -145,7 +145,7 @@ impl Controller for AlvsController {
         let cmd = self.fsm.step(&out.vm, heading_deg);
         // the efference copies of forward motion and of standing for the next frame
         self.net.driving((cmd.left_mm_s + cmd.right_mm_s) / 2.0);
-        self.standing = cmd.left_mm_s == 0.0 && cmd.right_mm_s == 0.0;
+        self.standing = cmd.stands();
         Command {
             left_mm_s: cmd.left_mm_s,
             right_mm_s: cmd.right_mm_s,

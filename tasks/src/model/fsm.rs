@@ -442,6 +442,14 @@ pub struct MotorCommand {
     pub right_mm_s: f32,
 }
 
+impl MotorCommand {
+    /// Both wheels are told to stand still: the efference copy of standing that the swarm's
+    /// look waits for ([`crate::model::movers::Movers::step`]).
+    pub fn stands(&self) -> bool {
+        self.left_mm_s == 0.0 && self.right_mm_s == 0.0
+    }
+}
+
 /// `x` limited to `±lim`; NaN `x` or a nonsensical `lim` give 0 / a zero limit, never a panic
 /// (unlike `f32::clamp`).
 fn limit(x: f32, lim: f32) -> f32 {
