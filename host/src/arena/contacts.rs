@@ -37,7 +37,9 @@
 //! and ends only when it rises above threshold + [`EPISODE_HYSTERESIS_MM`], so that bodies
 //! pressed together, or a robot hovering at a threshold, count once.
 
-use super::world::{Arena, Pose, ROBOT_DIAMETER_MM, ROBOT_RADIUS_MM};
+use super::world::{
+    static_distance, wrap_deg, Arena, Obstacle, Pose, ROBOT_DIAMETER_MM, ROBOT_RADIUS_MM,
+};
 
 /// Robot–robot collision: centre distance below this, mm (one diameter: the bodies touch).
 pub const ROBOT_COLLISION_DISTANCE_MM: f64 = ROBOT_DIAMETER_MM;
@@ -57,14 +59,40 @@ pub const EPISODE_HYSTERESIS_MM: f64 = 10.0;
 /// Relaxation passes of the overlap resolution per physics step.
 pub const RESOLVE_ITERATIONS: usize = 4;
 
-/// Pushes overlapping bodies apart and keeps them inside the walls (see the module
-/// documentation).
-pub fn resolve_overlaps(arena: &Arena, poses: &mut [Pose]) {
-    let (lo, hx, hy) = (
-        ROBOT_RADIUS_MM,
-        arena.size_x_mm - ROBOT_RADIUS_MM,
-        arena.size_y_mm - ROBOT_RADIUS_MM,
-    );
+/// How a robot's shell meets a static surface (a wall or an obstacle), beyond being stopped by
+/// it: see [`resolve_overlaps`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceContact {
+    /// Heading turned toward the surface's tangent per mm of travel the surface blocks, in
+    /// units of 1/radius (dimensionless): the turn the shell's friction at the contact point
+    /// gives a body that slides along the surface (it holds the shell back where it touches, so
+    /// the body swings round parallel to the surface). 0 = the body keeps its heading (a robot
+    /// that drives straight into a wall stays there, seeing a frozen picture).
+    pub turn_gain: f64,
+}
+
+impl SurfaceContact {
+    /// No turn: the body only slides (the simulator's contact model before the recorded arena).
+    pub const RIGID: SurfaceContact = SurfaceContact { turn_gain: 0.0 };
+}
+
+impl Default for SurfaceContact {
+    /// The friction coefficient of a plastic shell on a plastic wall, ≈ 0.5 (docs/world.md,
+    /// "Contact").
+    fn default() -> Self {
+        SurfaceContact { turn_gain: 0.5 }
+    }
+}
+
+/// Pushes overlapping bodies apart and keeps them out of the walls and obstacles (see the
+/// module documentation); a body pushed out of a static surface also turns toward the
+/// surface's tangent by `contact.turn_gain · depth / radius` (never past the tangent).
+pub fn resolve_overlaps(
+    arena: &Arena,
+    obstacles: &[Obstacle],
+    contact: SurfaceContact,
+    poses: &mut [Pose],
+) {
     let d2 = ROBOT_DIAMETER_MM * ROBOT_DIAMETER_MM;
     for _ in 0..RESOLVE_ITERATIONS {
         let mut moved = false;
@@ -91,15 +119,76 @@ pub fn resolve_overlaps(arena: &Arena, poses: &mut [Pose]) {
             }
         }
         for p in poses.iter_mut() {
-            let (x, y) = (p.x_mm.clamp(lo, hx.max(lo)), p.y_mm.clamp(lo, hy.max(lo)));
-            moved |= x != p.x_mm || y != p.y_mm;
-            p.x_mm = x;
-            p.y_mm = y;
+            moved |= push_out_of_statics(arena, obstacles, contact, p);
         }
         if !moved {
             break;
         }
     }
+}
+
+/// Moves `p` out of every wall and obstacle it overlaps (along the surface's normal) and turns
+/// it as `contact` says; whether it moved.
+fn push_out_of_statics(
+    arena: &Arena,
+    obstacles: &[Obstacle],
+    contact: SurfaceContact,
+    p: &mut Pose,
+) -> bool {
+    let r = ROBOT_RADIUS_MM;
+    let (hx, hy) = ((arena.size_x_mm - r).max(r), (arena.size_y_mm - r).max(r));
+    // Walls: the centre is clamped exactly (a body at rest against a wall stays at one
+    // radius), then turned by the depth it had.
+    let (x, y) = (p.x_mm.clamp(r, hx), p.y_mm.clamp(r, hy));
+    let moved = x != p.x_mm || y != p.y_mm;
+    let (dx, dy) = (x - p.x_mm, y - p.y_mm);
+    p.x_mm = x;
+    p.y_mm = y;
+    if dx != 0.0 {
+        turn_along(p, dx.abs(), (dx.signum(), 0.0), contact);
+    }
+    if dy != 0.0 {
+        turn_along(p, dy.abs(), (0.0, dy.signum()), contact);
+    }
+    let mut moved = moved;
+    for o in obstacles {
+        let (dx, dy) = (p.x_mm - o.x_mm, p.y_mm - o.y_mm);
+        let d = dx.hypot(dy);
+        let depth = o.radius_mm + r - d;
+        if depth > 0.0 {
+            let n = if d > 1e-9 {
+                (dx / d, dy / d)
+            } else {
+                (1.0, 0.0)
+            };
+            p.x_mm += depth * n.0;
+            p.y_mm += depth * n.1;
+            turn_along(p, depth, n, contact);
+            moved = true;
+        }
+    }
+    moved
+}
+
+/// Turns `p`, just pushed `depth` out of a surface along its unit normal `n` (pointing away
+/// from the surface), toward the surface's tangent.
+fn turn_along(p: &mut Pose, depth: f64, n: (f64, f64), contact: SurfaceContact) {
+    if contact.turn_gain <= 0.0 {
+        return;
+    }
+    let (fx, fy) = p.forward();
+    let into = -(fx * n.0 + fy * n.1); // cos of the angle to the inward normal
+    if into <= 0.0 {
+        return; // facing away: the surface only stops the body
+    }
+    // The tangent on the heading's side: the heading with its normal part removed.
+    let (tx, ty) = (fx + into * n.0, fy + into * n.1);
+    if tx.hypot(ty) < 1e-9 {
+        return; // square on: no sliding, no friction torque (an unstable balance)
+    }
+    let to_tangent = wrap_deg(ty.atan2(tx).to_degrees() - p.heading_deg);
+    let turn = (contact.turn_gain * depth / ROBOT_RADIUS_MM).to_degrees();
+    p.heading_deg = wrap_deg(p.heading_deg + turn.min(to_tangent.abs()) * to_tangent.signum());
 }
 
 /// What a robot met.
@@ -265,7 +354,7 @@ impl ContactTracker {
 
     /// Updates every pair's episodes with the bodies at `poses` at `time_s`. The number of
     /// bodies may grow between calls (new bodies start with no episode).
-    pub fn observe(&mut self, time_s: f64, arena: &Arena, poses: &[Pose]) {
+    pub fn observe(&mut self, time_s: f64, arena: &Arena, obstacles: &[Obstacle], poses: &[Pose]) {
         while self.pairs.len() < poses.len() {
             let j = self.pairs.len();
             self.pairs.push(vec![Episode::default(); j]);
@@ -291,7 +380,7 @@ impl ContactTracker {
             }
         }
         for (i, p) in poses.iter().enumerate() {
-            let d = arena.wall_distance(p.x_mm, p.y_mm);
+            let d = static_distance(arena, obstacles, p.x_mm, p.y_mm);
             let began = self.walls[i].update(
                 d,
                 WALL_ENCOUNTER_DISTANCE_MM,
@@ -396,7 +485,7 @@ mod tests {
                 Pose::new(500.0, 450.0, 0.0),
                 Pose::new(500.0 + d, 450.0, 0.0),
             ];
-            t.observe(k as f64, &arena, &poses);
+            t.observe(k as f64, &arena, &[], &poses);
         }
         let c = t.counts().robot_robot;
         assert_eq!(
@@ -406,9 +495,9 @@ mod tests {
         assert_eq!(c.success_rate(), Some(0.0));
         // Leaving and coming back is a new episode.
         let far = [Pose::new(500.0, 450.0, 0.0), Pose::new(800.0, 450.0, 0.0)];
-        t.observe(101.0, &arena, &far);
+        t.observe(101.0, &arena, &[], &far);
         let near = [Pose::new(500.0, 450.0, 0.0), Pose::new(600.0, 450.0, 0.0)];
-        t.observe(102.0, &arena, &near);
+        t.observe(102.0, &arena, &[], &near);
         let c = t.counts();
         assert_eq!(c.robot_robot.encounters, 2);
         assert_eq!(c.robot_robot.success_rate(), Some(0.5));
@@ -424,7 +513,7 @@ mod tests {
             Pose::new(100.0, 100.0, 0.0),
             Pose::new(5.0, 250.0, 0.0),
         ];
-        resolve_overlaps(&arena, &mut p);
+        resolve_overlaps(&arena, &[], SurfaceContact::RIGID, &mut p);
         assert!((p[0].distance_to(&p[1]) - 42.0).abs() < 1e-9);
         assert!(p[0].x_mm < p[1].x_mm);
         assert_eq!((p[2].x_mm, p[2].y_mm), (21.0, 179.0));

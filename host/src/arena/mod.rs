@@ -25,13 +25,16 @@ pub mod gyro;
 pub mod kinematics;
 pub mod physics;
 pub mod render;
+pub mod replica;
 pub mod rng;
 pub mod sim;
 pub mod texture;
 pub mod topdown;
 pub mod world;
 
-pub use contacts::{ContactCounts, ContactEvent, ContactTracker, EventKind, Other, Tally};
+pub use contacts::{
+    ContactCounts, ContactEvent, ContactTracker, EventKind, Other, SurfaceContact, Tally,
+};
 pub use controller::{Command, Controller, Kind, Seen};
 pub use gyro::{GyroParams, SimGyro};
 pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
@@ -40,7 +43,9 @@ pub use render::{Camera, Renderer, SensorNoise};
 pub use rng::Rng;
 pub use sim::Sim;
 pub use topdown::TopDown;
-pub use world::{Arena, GreyImage, Pose, RobotPattern, WallTexture, World};
+pub use world::{
+    Arena, FloorShade, GreyImage, Obstacle, Pose, RobotPattern, Room, WallTexture, World,
+};
 
 /// A robot's motors, gyro and camera noise: realistic (default motor lag and noise, default
 /// gyro drift, [`SensorNoise::typical`]) or, with `realistic` false, ideal.

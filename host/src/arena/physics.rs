@@ -11,36 +11,59 @@
 
 use alvs_tasks::model::fsm::MotorCommand;
 
-use super::contacts::{resolve_overlaps, ContactCounts, ContactTracker};
+use super::contacts::{resolve_overlaps, ContactCounts, ContactTracker, SurfaceContact};
 use super::gyro::{GyroParams, SimGyro};
 use super::kinematics::{advance, body_rates, Drive, MotorParams, PHYSICS_DT_S, PHYSICS_SUBSTEPS};
 use super::rng::Rng;
-use super::world::{Arena, Pose};
+use super::world::{wrap_deg, Arena, Obstacle, Pose, World};
 
 /// Robots in an arena, their motors, gyros and contacts.
 #[derive(Debug, Clone)]
 pub struct Physics {
     arena: Arena,
+    obstacles: Vec<Obstacle>,
+    contact: SurfaceContact,
     rng: Rng,
     poses: Vec<Pose>,
     drives: Vec<Drive>,
     gyros: Vec<SimGyro>,
     contacts: ContactTracker,
     steps: u64,
+    /// Per robot this step: the wheels' yaw rate and the heading before contacts (kept to
+    /// avoid allocating every step).
+    turning: Vec<(f64, f64)>,
 }
 
 impl Physics {
-    /// An empty arena; `seed` determines every robot's noise.
+    /// An empty arena without obstacles, its walls rigid ([`SurfaceContact::RIGID`]); `seed`
+    /// determines every robot's noise.
     pub fn new(arena: Arena, seed: u64) -> Self {
         Physics {
             arena,
+            obstacles: Vec::new(),
+            contact: SurfaceContact::RIGID,
             rng: Rng::new(seed),
             poses: Vec::new(),
             drives: Vec::new(),
             gyros: Vec::new(),
             contacts: ContactTracker::new(),
             steps: 0,
+            turning: Vec::new(),
         }
+    }
+
+    /// The moving part of `world`: its arena, obstacles and contact model, no robots yet.
+    pub fn of_world(world: &World, seed: u64) -> Self {
+        Physics {
+            obstacles: world.obstacles.clone(),
+            contact: world.contact,
+            ..Physics::new(world.arena, seed)
+        }
+    }
+
+    /// The static cylinders robots cannot enter.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
     }
 
     /// Adds a stopped robot at `pose`; returns its index.
@@ -121,24 +144,27 @@ impl Physics {
         self.steps as f64 * PHYSICS_DT_S
     }
 
-    /// One physics step of [`PHYSICS_DT_S`].
+    /// One physics step of [`PHYSICS_DT_S`]. Each gyro senses its body's rotation: the
+    /// wheels' and the turn a contact with a wall or obstacle gave it.
     pub fn step(&mut self) {
         let dt = PHYSICS_DT_S;
-        for ((pose, drive), gyro) in self
-            .poses
-            .iter_mut()
-            .zip(&mut self.drives)
-            .zip(&mut self.gyros)
-        {
+        self.turning.clear();
+        for (pose, drive) in self.poses.iter_mut().zip(&mut self.drives) {
             let (l, r) = drive.step(dt);
             let (v, omega) = body_rates(l, r, drive.params().track_mm);
             advance(pose, v, omega, dt);
-            gyro.sense(omega, dt);
+            self.turning.push((omega, pose.heading_deg));
         }
         self.steps += 1;
         self.contacts
-            .observe(self.time_s(), &self.arena, &self.poses);
-        resolve_overlaps(&self.arena, &mut self.poses);
+            .observe(self.time_s(), &self.arena, &self.obstacles, &self.poses);
+        resolve_overlaps(&self.arena, &self.obstacles, self.contact, &mut self.poses);
+        for ((gyro, &(omega, before)), pose) in
+            self.gyros.iter_mut().zip(&self.turning).zip(&self.poses)
+        {
+            let contact_turn = wrap_deg(pose.heading_deg - before).to_radians();
+            gyro.sense(omega + contact_turn / dt, dt);
+        }
     }
 
     /// The [`PHYSICS_SUBSTEPS`] steps of one camera frame.

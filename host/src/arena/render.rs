@@ -48,7 +48,9 @@ use crate::canvas::Canvas;
 
 use super::rng::Rng;
 use super::texture::WallMap;
-use super::world::{Arena, Pose, RobotPattern, World, ROBOT_HEIGHT_MM, ROBOT_RADIUS_MM};
+use super::world::{
+    Arena, Obstacle, Pose, RobotPattern, Room, World, ROBOT_HEIGHT_MM, ROBOT_RADIUS_MM,
+};
 
 /// Height of the camera's optical axis above the floor, mm: the lens sits on the sense board,
 /// a few mm below the top of the 28 mm body.
@@ -148,16 +150,28 @@ pub struct Renderer {
     wall_h: f32,
     map: WallMap,
     pattern: RobotPattern,
+    obstacles: Vec<Obstacle>,
+    obstacle_pattern: RobotPattern,
+    room: Option<RoomMap>,
     /// `tan β` of each column's ray.
     col_tan: [f32; WIDTH],
     /// Floor grey of each row.
     floor: [f32; HEIGHT],
 }
 
-/// Another robot as one camera sees it this frame.
+/// The room around the arena, precomputed: its texture pyramid at [`Room::SCALE`] times the
+/// texel size, its walls' rectangle (arena coordinates) and height.
+#[derive(Debug, Clone)]
+struct RoomMap {
+    map: WallMap,
+    margin: f32,
+    height: f32,
+}
+
+/// Another robot, or an obstacle, as one camera sees it this frame.
 #[derive(Debug, Clone, Copy)]
 struct View {
-    /// Camera minus the robot's centre, mm (world axes).
+    /// Camera minus the body's centre, mm (world axes).
     qx: f32,
     qy: f32,
     /// |q|² − R².
@@ -166,6 +180,10 @@ struct View {
     /// Columns of the silhouette's left and right tangents.
     c_l: f32,
     c_r: f32,
+    /// Radius and height of the body, mm.
+    radius: f32,
+    height: f32,
+    pattern: RobotPattern,
 }
 
 /// A robot in one column.
@@ -179,6 +197,8 @@ struct Hit {
     /// banded body.
     grey: f32,
     shade: f32,
+    height: f32,
+    pattern: RobotPattern,
 }
 
 /// One robot's camera: its noise and its reusable per-frame lists.
@@ -286,13 +306,14 @@ impl Renderer {
     pub fn new(world: &World) -> Self {
         let f = FOCAL_PX as f32;
         let col_tan = std::array::from_fn(|c| (c as f32 - CENTRE_COLUMN as f32) / f);
+        let (near, far) = (world.floor.near_grey, world.floor.far_grey);
         let floor = std::array::from_fn(|y| {
             let below = y as f32 - CENTRE_ROW as f32;
             if below <= 0.0 {
-                FLOOR_FAR_GREY
+                far
             } else {
                 let s = f * CAMERA_HEIGHT_MM as f32 / below;
-                FLOOR_FAR_GREY + (FLOOR_NEAR_GREY - FLOOR_FAR_GREY) * (-s / FLOOR_FADE_MM).exp()
+                far + (near - far) * (-s / FLOOR_FADE_MM).exp()
             }
         });
         Renderer {
@@ -300,6 +321,25 @@ impl Renderer {
             wall_h: world.wall_height_mm as f32,
             map: WallMap::new(world),
             pattern: world.robot_pattern,
+            obstacles: world.obstacles.clone(),
+            obstacle_pattern: world.obstacle_pattern,
+            room: world.room.as_ref().map(|room| {
+                let k = Room::SCALE;
+                let a = world.arena;
+                let m = room.margin_mm.max(0.0);
+                // The room's texture stored at k mm texels: a world 1/k its size.
+                let scaled = World {
+                    arena: Arena::new((a.size_x_mm + 2.0 * m) / k, (a.size_y_mm + 2.0 * m) / k),
+                    wall_height_mm: room.height_mm / k,
+                    texture: room.texture.clone(),
+                    ..World::default()
+                };
+                RoomMap {
+                    map: WallMap::new(&scaled),
+                    margin: m as f32,
+                    height: room.height_mm as f32,
+                }
+            }),
             col_tan,
             floor,
         }
@@ -340,23 +380,32 @@ impl Renderer {
         let (rx_, ry_) = (-fy, fx);
         let f = FOCAL_PX as f32;
         let ch = CAMERA_HEIGHT_MM as f32;
-        let r = ROBOT_RADIUS_MM as f32;
         let centre_row = CENTRE_ROW as f32;
 
-        // The other robots' silhouettes.
+        // The other robots' and the obstacles' silhouettes.
         views.clear();
-        for (j, b) in bodies.iter().enumerate() {
-            if j == viewer {
-                continue;
-            }
+        let robots = bodies
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != viewer)
+            .map(|(_, b)| (*b, ROBOT_RADIUS_MM, ROBOT_HEIGHT_MM, self.pattern));
+        let obstacles = self.obstacles.iter().map(|o| {
+            (
+                Pose::new(o.x_mm, o.y_mm, 0.0),
+                o.radius_mm,
+                o.height_mm,
+                self.obstacle_pattern,
+            )
+        });
+        for (b, radius, height, pattern) in robots.chain(obstacles) {
             let (dx, dy) = (b.x_mm - cx, b.y_mm - cy);
             let z = dx * fx + dy * fy;
             let x = dx * rx_ + dy * ry_;
-            if z <= -ROBOT_RADIUS_MM {
+            if z <= -radius {
                 continue;
             }
             let dist = x.hypot(z);
-            let delta = (ROBOT_RADIUS_MM / dist.max(1e-9)).min(1.0).asin();
+            let delta = (radius / dist.max(1e-9)).min(1.0).asin();
             let beta = x.atan2(z);
             let (left, right) = (beta - delta, beta + delta);
             const EDGE: f64 = std::f64::consts::FRAC_PI_2 - 1e-4;
@@ -379,10 +428,13 @@ impl Renderer {
             views.push(View {
                 qx: -dx as f32,
                 qy: -dy as f32,
-                c: (dist * dist - ROBOT_RADIUS_MM * ROBOT_RADIUS_MM) as f32,
+                c: (dist * dist - radius * radius) as f32,
                 heading_rad: b.heading_deg.to_radians() as f32,
                 c_l: c_l as f32,
                 c_r: c_r as f32,
+                radius: radius as f32,
+                height: height as f32,
+                pattern,
             });
         }
 
@@ -441,12 +493,36 @@ impl Renderer {
                 let v = (ch + (centre_row - y as f32) * fp_v).clamp(0.0, self.wall_h);
                 shade * sampler.at(v)
             };
+            let room = self.room.as_ref().map(|r| {
+                let (s, u) = rect_hit(
+                    (cx, cy),
+                    (rx, ry),
+                    (-r.margin, -r.margin),
+                    (sx + r.margin, sy + r.margin),
+                );
+                let k = Room::SCALE as f32;
+                let fp = s / f;
+                (r.map.sampler(u / k, fp / k), s, fp, r.height)
+            });
+            // What is seen above the walls at row y: the room's wall, or the ceiling.
+            let above = |y: usize| match &room {
+                Some((sampler, s, fp, h)) => {
+                    let z = ch + (centre_row - y as f32) * fp;
+                    let _ = s;
+                    if z < *h {
+                        sampler.at(z.max(0.0) / Room::SCALE as f32)
+                    } else {
+                        SKY_GREY
+                    }
+                }
+                None => SKY_GREY,
+            };
             let mixed = |y: usize| {
                 let (lo, hi) = (y as f32 - 0.5, y as f32 + 0.5);
                 let sky = (y_top - lo).clamp(0.0, 1.0);
                 let fl = (hi - y_base).clamp(0.0, 1.0);
                 let wall = (1.0 - sky - fl).max(0.0);
-                let mut g = sky * SKY_GREY + fl * self.floor[y];
+                let mut g = sky * above(y) + fl * self.floor[y];
                 if wall > 0.0 {
                     g += wall * wall_at(y);
                 }
@@ -454,7 +530,13 @@ impl Renderer {
             };
             let a_cl = a.clamp(0, HEIGHT as i32) as usize;
             let b_cl = b.clamp(-1, HEIGHT as i32 - 1);
-            col[..a_cl].fill(SKY_GREY);
+            if room.is_some() {
+                for (y, g) in col[..a_cl].iter_mut().enumerate() {
+                    *g = above(y);
+                }
+            } else {
+                col[..a_cl].fill(SKY_GREY);
+            }
             if a_cl < HEIGHT {
                 col[a_cl] = mixed(a_cl);
             }
@@ -493,14 +575,14 @@ impl Renderer {
                 let n = (nx * nx + ny * ny).sqrt().max(1e-6);
                 let cos_i = (-(nx * rx + ny * ry) / (n * rr.sqrt())).clamp(0.0, 1.0);
                 let shade = ROBOT_AMBIENT + (1.0 - ROBOT_AMBIENT) * cos_i;
-                let grey = match self.pattern {
+                let grey = match v.pattern {
                     RobotPattern::Stripes { count, dark, light } => {
                         let (dark, light) = (f32::from(dark), f32::from(light));
                         let k = f32::from(count);
                         let phi = ny.atan2(nx) - v.heading_rad;
                         // Phase advance of cos(kφ) per pixel: sharp square stripes up close,
                         // fading to their mean when a pixel spans a stripe.
-                        let w = k * (s / f) / r / cos_i.max(0.15);
+                        let w = k * (s / f) / v.radius / cos_i.max(0.15);
                         let sharp = (std::f32::consts::FRAC_PI_2 / w.max(1e-3)).clamp(1.0, 12.0);
                         let fade = (1.0 - w / std::f32::consts::PI).max(0.0);
                         let g = ((k * phi).cos() * sharp).clamp(-1.0, 1.0) * fade;
@@ -513,13 +595,15 @@ impl Renderer {
                     cov: cov.min(1.0),
                     grey: shade * grey,
                     shade,
+                    height: v.height,
+                    pattern: v.pattern,
                 });
             }
             if hits.len() > 1 {
                 hits.sort_unstable_by(|p, q| q.s.total_cmp(&p.s));
             }
             for h in hits.iter() {
-                let top = centre_row - f * (ROBOT_HEIGHT_MM as f32 - ch) / h.s;
+                let top = centre_row - f * (h.height - ch) / h.s;
                 let bot = centre_row + f * ch / h.s;
                 let y1 = (bot + 0.5).floor();
                 if y1 < 0.0 {
@@ -530,7 +614,7 @@ impl Renderer {
                 for (y, px) in col.iter_mut().enumerate().take(y1 + 1).skip(y0) {
                     let cov_v = ((y as f32 + 0.5).min(bot) - (y as f32 - 0.5).max(top)).max(0.0);
                     let alpha = h.cov * cov_v.min(1.0);
-                    let g = match self.pattern {
+                    let g = match h.pattern {
                         RobotPattern::Stripes { .. } => h.grey,
                         RobotPattern::Band {
                             body,
@@ -587,6 +671,44 @@ impl Renderer {
             }
         }
     }
+}
+
+/// Where a ray from `c` (inside the rectangle `lo`–`hi`) along `d` (not normalised; the
+/// returned depth is in units of `d`) leaves the rectangle: the depth and the wall coordinate
+/// `u`, running clockwise from the corner `lo` as on the arena's walls.
+fn rect_hit(c: (f32, f32), d: (f32, f32), lo: (f32, f32), hi: (f32, f32)) -> (f32, f32) {
+    let (w, h) = (hi.0 - lo.0, hi.1 - lo.1);
+    let sx = if d.0 > 1e-9 {
+        (hi.0 - c.0) / d.0
+    } else if d.0 < -1e-9 {
+        (lo.0 - c.0) / d.0
+    } else {
+        f32::INFINITY
+    };
+    let sy = if d.1 > 1e-9 {
+        (hi.1 - c.1) / d.1
+    } else if d.1 < -1e-9 {
+        (lo.1 - c.1) / d.1
+    } else {
+        f32::INFINITY
+    };
+    let s = sx.min(sy).clamp(0.05, 1e7);
+    let (x, y) = (
+        (c.0 + s * d.0 - lo.0).clamp(0.0, w),
+        (c.1 + s * d.1 - lo.1).clamp(0.0, h),
+    );
+    let u = if sx <= sy {
+        if d.0 > 0.0 {
+            w + y
+        } else {
+            2.0 * w + h + (h - y)
+        }
+    } else if d.1 > 0.0 {
+        w + h + (w - x)
+    } else {
+        x
+    };
+    (s, u)
 }
 
 #[cfg(test)]

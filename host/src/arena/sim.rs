@@ -42,7 +42,7 @@ impl Sim {
     /// An empty arena; `seed` drives every random choice of the run.
     pub fn new(world: &World, seed: u64) -> Self {
         Sim {
-            physics: Physics::new(world.arena, seed),
+            physics: Physics::of_world(world, seed),
             renderer: Renderer::new(world),
             robots: Vec::new(),
             frame: [0; PIXELS],

@@ -250,6 +250,23 @@ fn level0(tex: &WallTexture, cols: usize, rows: usize, height: f64) -> Vec<u8> {
                 &mut data,
             );
         }
+        WallTexture::Ribs {
+            period_mm,
+            dark,
+            light,
+        } => {
+            let p = period_mm.max(texel);
+            let (dark, light) = (f64::from(*dark), f64::from(*light));
+            supersample(
+                cols,
+                rows,
+                |u, _| {
+                    let c = (std::f64::consts::TAU * u / p).cos();
+                    dark + (light - dark) * 0.5 * (1.0 - c)
+                },
+                &mut data,
+            );
+        }
         WallTexture::Clutter { seed } => clutter(*seed, cols, rows, texel, &mut data),
         WallTexture::Outdoor { seed } => outdoor(*seed, cols, rows, texel, &mut data),
         WallTexture::Image(img) => image_level0(img, cols, rows, height, &mut data),

@@ -28,6 +28,8 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context};
 
+use super::contacts::SurfaceContact;
+
 /// Diameter of a Colias body, mm (docs/hardware.md, community model).
 pub const ROBOT_DIAMETER_MM: f64 = 42.0;
 /// Radius of a Colias body, mm.
@@ -241,6 +243,17 @@ pub enum WallTexture {
     /// A picture, scaled to the wall height with its aspect ratio kept and repeated along the
     /// walls.
     Image(Arc<GreyImage>),
+    /// Vertical ribs of a corrugated sheet, as the recorded arena's walls (docs/recordings.md):
+    /// a smooth (raised-cosine) profile from `dark` in the grooves to `light` on the ribs, one
+    /// groove and one rib per `period_mm`.
+    Ribs {
+        /// Distance between two ribs, mm.
+        period_mm: f64,
+        /// Grey in the grooves.
+        dark: u8,
+        /// Grey on the ribs.
+        light: u8,
+    },
 }
 
 impl Default for WallTexture {
@@ -253,12 +266,14 @@ impl Default for WallTexture {
 
 impl WallTexture {
     /// The built-in textures' names in a specification.
-    pub const NAMES: [&'static str; 5] = ["plain", "stripes", "checker", "clutter", "outdoor"];
+    pub const NAMES: [&'static str; 6] =
+        ["plain", "stripes", "checker", "clutter", "outdoor", "ribs"];
 
     /// Parses a background specification as a command line gives it: `plain[:GREY]`,
-    /// `stripes[:PERIOD_MM]`, `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]`, or else
-    /// the path of a PNG or JPEG picture. Defaults: grey 128, period 40 mm, squares 40 mm,
-    /// seed 1.
+    /// `stripes[:PERIOD_MM]`, `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]`,
+    /// `ribs[:PERIOD_MM[:DARK:LIGHT]]`, or else the path of a PNG or JPEG picture. Defaults: grey
+    /// 128, period 40 mm, squares 40 mm, seed 1, the recorded arena's ribs
+    /// ([`super::replica::WALL_RIBS`]).
     pub fn from_spec(spec: &str) -> anyhow::Result<Self> {
         let (name, arg) = match spec.split_once(':') {
             Some((n, a)) => (n, Some(a)),
@@ -295,6 +310,7 @@ impl WallTexture {
                         .with_context(|| format!("`{a}` in `{spec}` is not a seed"))?,
                 },
             },
+            "ribs" => ribs_from_spec(arg, spec)?,
             "clutter" => WallTexture::Clutter {
                 seed: match arg {
                     None => DEFAULT_CLUTTER_SEED,
@@ -317,8 +333,112 @@ impl WallTexture {
             WallTexture::Clutter { seed } => format!("clutter:{seed}"),
             WallTexture::Outdoor { seed } => format!("outdoor:{seed}"),
             WallTexture::Image(img) => format!("image {}x{}", img.width, img.height),
+            WallTexture::Ribs {
+                period_mm,
+                dark,
+                light,
+            } => format!("ribs:{period_mm}:{dark}:{light}"),
         }
     }
+}
+
+/// `ribs[:PERIOD_MM[:DARK:LIGHT]]` (the part after `ribs:` is `arg`).
+fn ribs_from_spec(arg: Option<&str>, spec: &str) -> anyhow::Result<WallTexture> {
+    let Some(arg) = arg else {
+        return Ok(super::replica::WALL_RIBS);
+    };
+    let WallTexture::Ribs {
+        mut dark,
+        mut light,
+        ..
+    } = super::replica::WALL_RIBS
+    else {
+        unreachable!("the recorded walls are ribs")
+    };
+    let parts: Vec<&str> = arg.split(':').collect();
+    if !matches!(parts.len(), 1 | 3) {
+        bail!("`{spec}`: expected ribs, ribs:PERIOD_MM or ribs:PERIOD_MM:DARK:LIGHT");
+    }
+    let period_mm = parts[0]
+        .parse()
+        .ok()
+        .filter(|p: &f64| p.is_finite() && *p > 0.0)
+        .with_context(|| format!("`{}` in `{spec}` is not a positive period in mm", parts[0]))?;
+    if parts.len() == 3 {
+        let grey = |s: &str| {
+            s.parse::<u8>()
+                .with_context(|| format!("`{s}` in `{spec}` is not a grey level 0..=255"))
+        };
+        dark = grey(parts[1])?;
+        light = grey(parts[2])?;
+    }
+    Ok(WallTexture::Ribs {
+        period_mm,
+        dark,
+        light,
+    })
+}
+
+/// A static cylinder standing on the floor, such as the recorded arena's obstacles: seen by
+/// every camera, and a body robots cannot enter (see `contacts`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Obstacle {
+    /// Centre, mm.
+    pub x_mm: f64,
+    /// Centre, mm.
+    pub y_mm: f64,
+    /// Radius, mm.
+    pub radius_mm: f64,
+    /// Height, mm.
+    pub height_mm: f64,
+}
+
+impl Obstacle {
+    /// Distance from the point (x, y) to the obstacle's surface, mm (negative inside).
+    pub fn surface_distance(&self, x: f64, y: f64) -> f64 {
+        (x - self.x_mm).hypot(y - self.y_mm) - self.radius_mm
+    }
+}
+
+/// How the floor looks to a robot's camera: a grey that changes with the viewing distance
+/// (a floor seen at a grazing angle reflects more of the bright room).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FloorShade {
+    /// Grey of the floor just in front of the camera.
+    pub near_grey: f32,
+    /// Grey the floor tends to far away.
+    pub far_grey: f32,
+}
+
+impl Default for FloorShade {
+    /// The built-in arena's mid-grey floor ([`super::render::FLOOR_NEAR_GREY`] →
+    /// [`super::render::FLOOR_FAR_GREY`]).
+    fn default() -> Self {
+        FloorShade {
+            near_grey: super::render::FLOOR_NEAR_GREY,
+            far_grey: super::render::FLOOR_FAR_GREY,
+        }
+    }
+}
+
+/// The room around a low-walled arena, as a robot's camera sees it above the walls: a box
+/// `margin_mm` beyond the arena's walls on every side, `height_mm` high, with its own texture;
+/// above it the bright ceiling ([`super::render::SKY_GREY`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Room {
+    /// Distance from the arena's walls to the room's walls, mm.
+    pub margin_mm: f64,
+    /// Height of the room's walls, mm.
+    pub height_mm: f64,
+    /// What the room's walls look like (features scaled by [`Room::SCALE`]: a clutter of
+    /// 6–180 mm shapes on the arena's walls is 60–1800 mm furniture here).
+    pub texture: WallTexture,
+}
+
+impl Room {
+    /// How much larger the room's texture features are than the same texture on the arena's
+    /// walls (it is stored at 10 mm texels).
+    pub const SCALE: f64 = 10.0;
 }
 
 /// How a robot's body looks from the side (all robots look the same).
@@ -371,6 +491,18 @@ pub struct World {
     pub texture: WallTexture,
     /// The robots' bodies.
     pub robot_pattern: RobotPattern,
+    /// The floor.
+    pub floor: FloorShade,
+    /// Static cylinders on the floor (none in the built-in arena).
+    pub obstacles: Vec<Obstacle>,
+    /// How the obstacles look from the side.
+    pub obstacle_pattern: RobotPattern,
+    /// How a robot meets the walls and obstacles.
+    pub contact: SurfaceContact,
+    /// What is seen above the walls: the room, or with `None` the uniform bright lab
+    /// ([`super::render::SKY_GREY`]; the built-in arena's walls are higher than the camera
+    /// sees from most places).
+    pub room: Option<Room>,
 }
 
 impl Default for World {
@@ -380,6 +512,11 @@ impl Default for World {
             wall_height_mm: DEFAULT_WALL_HEIGHT_MM,
             texture: WallTexture::default(),
             robot_pattern: RobotPattern::default(),
+            floor: FloorShade::default(),
+            obstacles: Vec::new(),
+            obstacle_pattern: RobotPattern::default(),
+            contact: SurfaceContact::RIGID,
+            room: None,
         }
     }
 }
@@ -392,6 +529,20 @@ impl World {
             ..World::default()
         }
     }
+
+    /// Distance from the point (x, y) to the nearest static surface (a wall or an obstacle),
+    /// mm.
+    pub fn static_distance(&self, x: f64, y: f64) -> f64 {
+        static_distance(&self.arena, &self.obstacles, x, y)
+    }
+}
+
+/// Distance from the point (x, y) to the nearest wall of `arena` or surface of `obstacles`, mm.
+pub fn static_distance(arena: &Arena, obstacles: &[Obstacle], x: f64, y: f64) -> f64 {
+    obstacles
+        .iter()
+        .map(|o| o.surface_distance(x, y))
+        .fold(arena.wall_distance(x, y), f64::min)
 }
 
 #[cfg(test)]

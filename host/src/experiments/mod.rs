@@ -27,6 +27,7 @@ pub mod parallel;
 pub mod stimuli;
 pub mod swarm;
 pub mod two_threats;
+pub mod validate;
 
 /// What every experiment's result gives the CLI: a table, JSON, pictures and, for the
 /// experiments that keep one, a frame-by-frame trace.

@@ -1,0 +1,251 @@
+//! What the recorded arena added to the simulated world: obstacles (drawn, solid, counted as
+//! the wall), the contact turn at walls and obstacles (and the gyro sensing it), the room seen
+//! above low walls, the ribbed wall texture and the replica itself.
+//!
+//! `cargo test --target host-tuple -p alvs-host --test world_statics`.
+
+use alvs_host::arena::kinematics::PHYSICS_DT_S;
+use alvs_host::arena::render::{column_of_bearing, row_of_height, CAMERA_FORWARD_MM, SKY_GREY};
+use alvs_host::arena::world::ROBOT_RADIUS_MM;
+use alvs_host::arena::{
+    replica, Arena, GyroParams, MotorParams, Obstacle, Physics, Pose, Renderer, Room,
+    SurfaceContact, WallTexture, World,
+};
+use alvs_tasks::WIDTH;
+
+fn world_with(obstacles: Vec<Obstacle>, contact: SurfaceContact) -> World {
+    World {
+        obstacles,
+        contact,
+        ..World::default()
+    }
+}
+
+fn physics(world: &World, start: Pose) -> Physics {
+    let mut p = Physics::of_world(world, 1);
+    p.add_robot(start, MotorParams::ideal(), GyroParams::ideal());
+    p
+}
+
+fn run_s(p: &mut Physics, seconds: f64) {
+    for _ in 0..(seconds / PHYSICS_DT_S).round() as usize {
+        p.step();
+    }
+}
+
+/// Driving at 80° into the right-hand wall (10° off square): the rigid wall only stops the
+/// body, which keeps its heading and slides; with the contact turn it swings round parallel to
+/// the wall and drives along it.
+#[test]
+fn a_wall_turns_a_body_that_slides_along_it() {
+    let start = Pose::new(1100.0, 450.0, 10.0);
+    for (contact, turned) in [
+        (SurfaceContact::RIGID, false),
+        (SurfaceContact::default(), true),
+    ] {
+        let w = world_with(Vec::new(), contact);
+        let mut p = physics(&w, start);
+        p.set_wheels(0, 100.0, 100.0);
+        run_s(&mut p, 4.0);
+        let end = p.poses()[0];
+        assert!(
+            (end.x_mm - (1200.0 - ROBOT_RADIUS_MM)).abs() < 1e-6,
+            "at the wall"
+        );
+        if turned {
+            assert!(
+                (end.heading_deg - 90.0).abs() < 1.0,
+                "parallel: {}",
+                end.heading_deg
+            );
+            // ~2.8 s of the 4 s along the wall at up to 100 mm/s
+            assert!(end.y_mm > 600.0, "slid along the wall to y = {}", end.y_mm);
+        } else {
+            assert!((end.heading_deg - 10.0).abs() < 1e-9, "{}", end.heading_deg);
+            assert!(end.y_mm < 520.0, "crept at sin 10° · v: y = {}", end.y_mm);
+        }
+    }
+}
+
+/// Square on, nothing turns the body (an unstable balance the motors' noise breaks); facing
+/// away from the wall it turns nothing either.
+#[test]
+fn square_on_and_facing_away_do_not_turn() {
+    let w = world_with(Vec::new(), SurfaceContact::default());
+    let mut p = physics(&w, Pose::new(1100.0, 450.0, 0.0));
+    p.set_wheels(0, 100.0, 100.0);
+    run_s(&mut p, 3.0);
+    assert_eq!(p.poses()[0].heading_deg, 0.0);
+    let mut p = physics(&w, Pose::new(1195.0, 450.0, 170.0));
+    p.set_wheels(0, -20.0, -20.0);
+    run_s(&mut p, 1.0);
+    assert_eq!(p.poses()[0].heading_deg, 170.0);
+}
+
+/// The gyro feels the turn a contact gives the body, so the firmware's heading follows it.
+#[test]
+fn the_gyro_senses_a_contact_turn() {
+    let w = world_with(Vec::new(), SurfaceContact::default());
+    let mut p = physics(&w, Pose::new(1100.0, 450.0, 20.0));
+    p.set_wheels(0, 100.0, 100.0);
+    run_s(&mut p, 4.0);
+    let truth = p.poses()[0].heading_deg;
+    assert!((truth - 90.0).abs() < 1.0, "turned parallel: {truth}");
+    let sensed = p.gyro(0).heading();
+    assert!((sensed - truth).abs() < 1e-6, "gyro {sensed} vs {truth}");
+}
+
+/// An obstacle is solid (the centre stays one radius outside it), and a robot near it counts
+/// as near the wall: its surface is part of "the arena wall" of the paper's counting.
+#[test]
+fn obstacles_are_solid_and_count_as_the_wall() {
+    let o = Obstacle {
+        x_mm: 600.0,
+        y_mm: 450.0,
+        radius_mm: 20.0,
+        height_mm: 50.0,
+    };
+    let w = world_with(vec![o], SurfaceContact::RIGID);
+    let mut p = physics(&w, Pose::new(400.0, 450.0, 0.0));
+    p.set_wheels(0, 100.0, 100.0);
+    run_s(&mut p, 4.0);
+    let end = p.poses()[0];
+    assert!(
+        (end.x_mm - (600.0 - 20.0 - ROBOT_RADIUS_MM)).abs() < 1e-6,
+        "{end:?}"
+    );
+    let c = p.counts();
+    assert_eq!((c.robot_wall.encounters, c.robot_wall.collisions), (1, 1));
+    assert_eq!(c.wall_touches, 1);
+    assert_eq!(w.static_distance(end.x_mm, end.y_mm), ROBOT_RADIUS_MM);
+}
+
+/// An obstacle ahead is drawn between its silhouette's tangents, up to its height; the
+/// columns beside it show the wall.
+#[test]
+fn an_obstacle_is_drawn_where_and_as_high_as_it_stands() {
+    let eye = Pose::new(300.0, 450.0, 0.0);
+    let (cx, _) = eye.offset(CAMERA_FORWARD_MM, 0.0);
+    let (d, r, h) = (300.0, 40.0, 60.0);
+    let o = Obstacle {
+        x_mm: cx + d,
+        y_mm: 450.0,
+        radius_mm: r,
+        height_mm: h,
+    };
+    let plain = |obstacles| World {
+        texture: WallTexture::Plain(200),
+        obstacles,
+        obstacle_pattern: alvs_host::arena::RobotPattern::Band {
+            body: 10,
+            band: 10,
+            bottom_mm: 0.0,
+            top_mm: 0.0,
+        },
+        ..World::default()
+    };
+    let with = Renderer::new(&plain(vec![o])).render(&[eye], 0);
+    let without = Renderer::new(&plain(Vec::new())).render(&[eye], 0);
+    let half = (r / d).asin().to_degrees();
+    let (c_l, c_r) = (column_of_bearing(-half), column_of_bearing(half));
+    let row = 36; // just below the horizon: the obstacle's middle
+    for c in 0..WIDTH {
+        let (a, b) = (with[row * WIDTH + c], without[row * WIDTH + c]);
+        let inside = (c as f64) > c_l + 1.0 && (c as f64) < c_r - 1.0;
+        let outside = (c as f64) < c_l - 1.0 || (c as f64) > c_r + 1.0;
+        if inside {
+            assert!(a < 30, "column {c}: {a}");
+        } else if outside {
+            assert_eq!(a, b, "column {c}");
+        }
+    }
+    // Its top: the front of the cylinder is at d − r.
+    let top = row_of_height(h, d - r);
+    let c = 49;
+    let above = (top - 1.5).floor() as usize;
+    let below = (top + 1.5).ceil() as usize;
+    assert_eq!(with[above * WIDTH + c], without[above * WIDTH + c]);
+    assert!(with[below * WIDTH + c] < 30);
+}
+
+/// Above low walls the camera sees the room (its texture), and above the room's walls the
+/// ceiling; without a room, the uniform bright lab.
+#[test]
+fn the_room_shows_above_low_walls() {
+    let low = |room| World {
+        wall_height_mm: 40.0,
+        texture: WallTexture::Plain(200),
+        room,
+        ..World::default()
+    };
+    let eye = Pose::new(600.0, 450.0, 0.0);
+    let bare = Renderer::new(&low(None)).render(&[eye], 0);
+    let room = Room {
+        margin_mm: 500.0,
+        height_mm: 800.0,
+        texture: WallTexture::Plain(60),
+    };
+    let with = Renderer::new(&low(Some(room))).render(&[eye], 0);
+    let (cx, _) = eye.offset(CAMERA_FORWARD_MM, 0.0);
+    let to_wall = 1200.0 - cx;
+    let wall_top = row_of_height(40.0, to_wall);
+    let room_top = row_of_height(800.0, to_wall + 500.0);
+    let c = 49;
+    let between = ((room_top + wall_top) / 2.0) as usize;
+    assert_eq!(f32::from(bare[between * WIDTH + c]), SKY_GREY);
+    assert_eq!(with[between * WIDTH + c], 60, "room at row {between}");
+    let ceiling = (room_top - 2.0).floor();
+    if ceiling >= 0.0 {
+        assert_eq!(f32::from(with[ceiling as usize * WIDTH + c]), SKY_GREY);
+    }
+}
+
+#[test]
+fn ribs_parse_and_alternate() {
+    assert_eq!(
+        WallTexture::from_spec("ribs:6:100:200").unwrap(),
+        WallTexture::Ribs {
+            period_mm: 6.0,
+            dark: 100,
+            light: 200
+        }
+    );
+    assert_eq!(WallTexture::from_spec("ribs").unwrap(), replica::WALL_RIBS);
+    for bad in ["ribs:0", "ribs:5:1", "ribs:5:1:300", "ribs:x"] {
+        assert!(WallTexture::from_spec(bad).is_err(), "{bad}");
+    }
+    let w = World::with_texture(WallTexture::Ribs {
+        period_mm: 8.0,
+        dark: 100,
+        light: 200,
+    });
+    let tex = alvs_host::arena::texture::WallMap::new(&w).unrolled();
+    let row = &tex.pixels[tex.width * 10..tex.width * 10 + 16];
+    // 1 mm texels: a groove at u = 0 and 8, a rib at u = 4 and 12.
+    assert!(row[0] < 110 && row[8] < 110, "{row:?}");
+    assert!(row[4] > 190 && row[12] > 190, "{row:?}");
+}
+
+/// The replica's obstacles stand inside the arena and leave room to drive between them.
+#[test]
+fn the_replica_is_a_drivable_arena() {
+    let w = replica::world();
+    let a: Arena = w.arena;
+    assert!(!w.obstacles.is_empty());
+    for o in &w.obstacles {
+        assert!(a.wall_distance(o.x_mm, o.y_mm) >= -1e-9, "{o:?} outside");
+    }
+    // Most of the floor is free.
+    let mut free = 0;
+    let n = 100;
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (
+                (i as f64 + 0.5) * a.size_x_mm / n as f64,
+                (j as f64 + 0.5) * a.size_y_mm / n as f64,
+            );
+            free += usize::from(w.static_distance(x, y) > ROBOT_RADIUS_MM);
+        }
+    }
+    assert!(free > n * n * 8 / 10, "{free} of {}", n * n);
+}
