@@ -7,5 +7,6 @@ pub mod clip;
 pub mod data;
 pub mod experiments;
 pub mod lgmd2;
+pub mod recordings;
 pub mod replay;
 pub mod scenes;
