@@ -94,12 +94,49 @@ enum Cmd {
     /// Experiment 5 (paper Fig. 7): robots in the spin-on-approach (swarm) mode wander in the
     /// arena; the spread of the group over time, against the same robots escaping.
     Swarm(SwarmArgs),
+    /// The simulator against the real recordings: one LGMD2 robot per recorded run, alone in
+    /// the recorded arena's replica at the run's speed; its path's statistics beside the real
+    /// one's, each with its tolerance (the 10.9 cm/s runs calibrate, the rest are held out).
+    ///
+    /// The simulated trail is drawn and extracted exactly as the tracker's snapshots are
+    /// (`cargo alvs recordings`). Pictures: real and simulated path side by side per run.
+    Validate(ValidateArgs),
     /// The real Colias recordings (fuqinbing/LGMD2-open-source, issue 29): extract the arena
     /// and the tracks from the tracker's snapshots, or show the committed statistics.
     Recordings {
         #[command(subcommand)]
         cmd: RecordingsCmd,
     },
+}
+
+/// The simulated worlds `validate` can drive in.
+#[derive(Clone, Copy, ValueEnum)]
+enum WorldChoice {
+    /// The recorded arena's replica (`arena::replica`): its size, low ribbed walls, dark
+    /// floor, 15 obstacles, the room above the walls, the contact turn.
+    Fu2019,
+    /// The built-in 1200 x 900 mm arena with 250 mm clutter walls, no obstacles, rigid walls.
+    Lab,
+}
+
+#[derive(clap::Args)]
+struct ValidateArgs {
+    /// The world the simulated robot drives in.
+    #[arg(long, value_enum, default_value = "fu2019")]
+    world: WorldChoice,
+    /// Seeds of the simulations (repeatable); one simulation per recorded run and seed.
+    /// Default: 11, 12, 13 (report seeds: tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Threads (default: all cores); results do not depend on it.
+    #[arg(long, value_name = "J", default_value_t = 0)]
+    jobs: usize,
+    /// Write the results as JSON.
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where the pictures go.
+    #[arg(long, value_name = "DIR", default_value = "out/validate")]
+    png: PathBuf,
 }
 
 #[derive(Subcommand)]
@@ -631,6 +668,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::TwoThreats(a) => run_two_threats(a),
         Cmd::Swarm(a) => run_swarm(a),
         Cmd::Recordings { cmd } => run_recordings(cmd),
+        Cmd::Validate(a) => run_validate(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
     }
@@ -741,6 +779,36 @@ impl Outputs<'_> {
         }
         Ok(())
     }
+}
+
+fn run_validate(a: ValidateArgs) -> Result<()> {
+    use alvs_host::experiments::validate::{self, ValidateConfig};
+    let (world, world_label) = match a.world {
+        WorldChoice::Fu2019 => (alvs_host::arena::replica::world(), "fu2019"),
+        WorldChoice::Lab => (alvs_host::arena::World::default(), "lab"),
+    };
+    let seeds = if a.seeds.is_empty() {
+        vec![11, 12, 13]
+    } else {
+        a.seeds
+    };
+    let config = ValidateConfig {
+        world,
+        world_label: world_label.into(),
+        seeds,
+        jobs: a.jobs,
+    };
+    let out = Outputs {
+        png: &a.png,
+        json: a.json.as_deref(),
+        trace: None,
+    };
+    out.check()?;
+    let total = (alvs_host::recordings::runs::RUNS.len() * config.seeds.len()) as u64;
+    let bar = progress_bar("validate", total);
+    let r = validate::validate(&config, &|| bar.inc(1));
+    bar.finish_and_clear();
+    out.publish(&r?)
 }
 
 fn run_stimuli(a: StimuliArgs) -> Result<()> {
