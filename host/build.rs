@@ -13,7 +13,9 @@ fn git(args: &[&str]) -> Option<String> {
 fn main() {
     let commit = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
     println!("cargo:rustc-env=ALVS_GIT_COMMIT={commit}");
-    // a new commit or a checkout moves HEAD or the branch it points to (paths work in worktrees)
+    // a new commit or a checkout moves HEAD or the branch it points to (paths work in
+    // worktrees). Only files that exist: cargo takes a missing one (packed-refs, often) for a
+    // change, and would rebuild the crate on every `cargo alvs`.
     for path in ["HEAD", "packed-refs"]
         .into_iter()
         .filter_map(|p| git(&["rev-parse", "--git-path", p]))
@@ -21,6 +23,7 @@ fn main() {
             git(&["symbolic-ref", "-q", "HEAD"])
                 .and_then(|r| git(&["rev-parse", "--git-path", &r])),
         )
+        .filter(|p| std::path::Path::new(p).exists())
     {
         println!("cargo:rerun-if-changed={path}");
     }
