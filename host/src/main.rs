@@ -7,12 +7,15 @@ use std::process::ExitCode;
 
 use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
+use alvs_host::experiments::sweep::Shard;
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
+
+mod shards;
 
 #[derive(Parser)]
 #[command(
@@ -107,6 +110,14 @@ enum Cmd {
         #[command(subcommand)]
         cmd: RecordingsCmd,
     },
+    /// Pool the shard files of a sweep (an experiment run as `--shard I/N --json FILE` for
+    /// I = 1..N, on one machine or many) into the report an unsharded run gives: the same
+    /// table, JSON and pictures (docs/sweeps.md).
+    ///
+    /// The shards carry their command line, configuration and program version, so nothing
+    /// about the run is given again here; shards of different runs or builds, a missing or
+    /// repeated shard and an unreadable file are refused.
+    Merge(shards::MergeArgs),
 }
 
 /// The simulated worlds `validate` can drive in.
@@ -178,7 +189,12 @@ struct CommonArgs {
     /// parallelism); results do not depend on it.
     #[arg(long, value_name = "J")]
     jobs: Option<usize>,
-    /// Write the results as JSON.
+    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
+    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
+    /// the N files into the whole run's report (docs/sweeps.md).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Write the results as JSON (with --shard: the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
@@ -374,7 +390,13 @@ struct ArenaArgs {
     /// results do not depend on it.
     #[arg(long, value_name = "J")]
     jobs: Option<usize>,
-    /// Write the results as JSON: {"alvs":{...},"lgmd2":{...},"trials":[...]}.
+    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
+    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
+    /// the N files into the whole run's report (docs/sweeps.md).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Write the results as JSON: {"alvs":{...},"lgmd2":{...},"trials":[...]} (with --shard:
+    /// the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
     /// Where the trajectory pictures (one per trial) and summary.png go.
@@ -669,6 +691,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Swarm(a) => run_swarm(a),
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
+        Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
     }
@@ -743,6 +766,11 @@ impl Outputs<'_> {
     fn check(&self) -> Result<()> {
         std::fs::create_dir_all(self.png)
             .with_context(|| format!("cannot create {}", self.png.display()))?;
+        self.check_files()
+    }
+
+    /// [`Outputs::check`] of the JSON and trace files only.
+    fn check_files(&self) -> Result<()> {
         for path in self.json.iter().chain(self.trace.iter()) {
             let existed = path.exists();
             std::fs::OpenOptions::new()
@@ -811,23 +839,26 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
     out.publish(&r?)
 }
 
-fn run_stimuli(a: StimuliArgs) -> Result<()> {
-    let config = stimuli::StimuliConfig {
+fn stimuli_config(a: &StimuliArgs) -> Result<stimuli::StimuliConfig> {
+    Ok(stimuli::StimuliConfig {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
-    };
+    })
+}
+
+fn run_stimuli(a: StimuliArgs) -> Result<()> {
+    let config = stimuli_config(&a)?;
     config.validate()?;
     let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    out.check()?;
-    out.publish(&stimuli::run(&config, jobs)?)
+    shards::execute(&config, jobs, a.common.shard, &out, 0)
 }
 
-fn run_evasion(a: EvasionArgs) -> Result<()> {
-    let config = evasion::EvasionConfig {
+fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
+    Ok(evasion::EvasionConfig {
         distance_mm: a.distance,
         speed_mm_s: a.speed,
         controllers: kinds(&a.controllers, &[Kind::Alvs, Kind::Lgmd2]),
@@ -838,19 +869,19 @@ fn run_evasion(a: EvasionArgs) -> Result<()> {
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
         ..evasion::EvasionConfig::default()
-    };
+    })
+}
+
+fn run_evasion(a: EvasionArgs) -> Result<()> {
+    let config = evasion_config(&a)?;
     config.validate()?;
     let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    out.check()?;
-    let bar = progress_bar("evasion", config.total_frames());
-    let r = evasion::run(&config, jobs, &|n| bar.inc(n));
-    bar.finish_and_clear();
-    out.publish(&r?)
+    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
 }
 
-fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
-    let config = two_threats::TwoThreatConfig {
+fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig> {
+    Ok(two_threats::TwoThreatConfig {
         runs: a.runs,
         fast_mm_s: a.fast,
         slow_mm_s: a.slow,
@@ -861,19 +892,19 @@ fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
-    };
+    })
+}
+
+fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
+    let config = two_threats_config(&a)?;
     config.validate()?;
     let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    out.check()?;
-    let bar = progress_bar("two-threats", config.total_frames());
-    let r = two_threats::run(&config, jobs, &|n| bar.inc(n));
-    bar.finish_and_clear();
-    out.publish(&r?)
+    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
 }
 
-fn run_swarm(a: SwarmArgs) -> Result<()> {
-    let config = swarm::SwarmConfig {
+fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
+    Ok(swarm::SwarmConfig {
         robots: a.robots,
         leader: a.leader,
         minutes: a.minutes,
@@ -883,25 +914,25 @@ fn run_swarm(a: SwarmArgs) -> Result<()> {
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
-    };
+    })
+}
+
+fn run_swarm(a: SwarmArgs) -> Result<()> {
+    let config = swarm_config(&a)?;
     config.validate()?;
     let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    out.check()?;
-    let bar = progress_bar("swarm", config.total_frames());
-    let r = swarm::run(&config, jobs, &|n| bar.inc(n));
-    bar.finish_and_clear();
-    out.publish(&r?)
+    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
 }
 
-fn run_arena(a: ArenaArgs) -> Result<()> {
-    let config = ArenaConfig {
+fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
+    Ok(ArenaConfig {
         robots: a.robots,
         minutes: a.minutes,
         backgrounds: if a.backgrounds.is_empty() {
             DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
         } else {
-            a.backgrounds
+            a.backgrounds.clone()
         },
         controllers: if a.controllers.is_empty() {
             vec![Kind::Alvs, Kind::Lgmd2]
@@ -914,7 +945,11 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         trace: a.trace.is_some(),
         exposure: a.camera.exposure,
         ..ArenaConfig::default()
-    };
+    })
+}
+
+fn run_arena(a: ArenaArgs) -> Result<()> {
+    let config = arena_config(&a)?;
     let jobs = jobs(a.jobs)?;
     config.validate()?;
     let out = Outputs {
@@ -922,12 +957,7 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         json: a.json.as_deref(),
         trace: a.trace.as_deref(),
     };
-    out.check()?;
-    // Hidden by indicatif when stderr is not a terminal (CI logs, pipes).
-    let bar = progress_bar("arena", arena::total_frames(&config));
-    let report = arena::run(&config, jobs, &|n| bar.inc(n));
-    bar.finish_and_clear();
-    out.publish(&report?)
+    shards::execute(&config, jobs, a.shard, &out, arena::total_frames(&config))
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {

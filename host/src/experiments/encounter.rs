@@ -75,7 +75,7 @@ impl Threat {
 }
 
 /// Which way the tested robot turned to escape.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Side {
     /// Turned left by more than [`TURN_MIN_DEG`].
@@ -133,6 +133,17 @@ pub struct Encounter {
     pub exposure: f32,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
+}
+
+/// A trial's outcome and its `--trace` rows with their CSV leading fields. Only the outcome
+/// goes into a shard file (a sharded run keeps no trace).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct Traced<T> {
+    /// What the experiment reports of the trial.
+    pub outcome: T,
+    /// The leading CSV fields and the rows (none unless the run traces).
+    #[serde(skip)]
+    pub trace: (String, Vec<TraceRow>),
 }
 
 /// One camera frame of the tested robot, for `--trace` (CSV: [`TRACE_HEADER`]).

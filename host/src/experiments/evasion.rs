@@ -14,9 +14,10 @@ use std::path::{Path, PathBuf};
 use alvs_tasks::model::fsm::State;
 use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
+use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::{Kind, Rng, TopDown, WallTexture, World};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
@@ -130,7 +131,7 @@ pub fn bearings(n: usize) -> Vec<f64> {
 }
 
 /// One bearing's outcome.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AngleOutcome {
     /// Bearing of the obstacle, degrees, positive = right.
     pub angle_deg: f64,
@@ -152,7 +153,8 @@ pub struct AngleOutcome {
     pub first_alert_s: Option<f64>,
     /// The state the first alert started: ALVS `long_takeoff` (turn, then run) or
     /// `short_takeoff` (the γ path); `null` if it never alerted.
-    pub reaction: Option<&'static str>,
+    #[serde(deserialize_with = "sweep::static_name_opt")]
+    pub reaction: Option<sweep::StaticName>,
     /// Closest centre distance to the obstacle, mm.
     pub min_distance_mm: f64,
     /// Tested robot's positions, 10 per second, mm.
@@ -245,61 +247,84 @@ pub fn run(
     jobs: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<EvasionReport> {
-    let texture = config.validate()?;
-    let t0 = std::time::Instant::now();
-    let bearings = config.bearings();
-    let plan: Vec<(Kind, f64)> = config
-        .controllers
-        .iter()
-        .flat_map(|&k| bearings.iter().map(move |&b| (k, b)))
-        .collect();
-    let results = parallel::map(plan.len(), jobs, |i| {
-        let (kind, b) = plan[i];
-        let e = Encounter {
-            kind,
-            threats: vec![config.threat(b)],
-            // each bearing its own noise and LGMD2 turn, the same for every controller
-            seed: Rng::new(config.seed)
-                .fork((i % bearings.len()) as u64)
-                .next_u64(),
-            params: config.params,
-            fsm: config.fsm,
-            texture: texture.clone(),
-            noise: true,
-            exposure: config.exposure,
-            trace: config.trace,
-        };
-        let r = encounter::run(&e, progress);
-        let lead = format!("{},{b:.2}", kind.name());
-        (AngleOutcome::new(b, &r), (lead, r.trace))
-    });
-    let (results, traces): (Vec<AngleOutcome>, Vec<_>) = results.into_iter().unzip();
-    let controllers = config
-        .controllers
-        .iter()
-        .enumerate()
-        .map(|(c, &kind)| {
-            let per_angle: Vec<AngleOutcome> =
-                results[c * bearings.len()..(c + 1) * bearings.len()].to_vec();
-            ControllerEvasion {
-                controller: kind.name(),
-                angles: per_angle.len(),
-                correct_side: per_angle.iter().filter(|o| o.correct_side).count(),
-                collisions: per_angle.iter().filter(|o| o.collided).count(),
-                alerted: per_angle
-                    .iter()
-                    .filter(|o| o.first_alert_s.is_some())
-                    .count(),
-                per_angle,
+    sweep::run_all(config, jobs, progress)
+}
+
+/// Trial `k` is (controller `k / bearings`, bearing `k mod bearings`).
+impl Sweep for EvasionConfig {
+    const NAME: &'static str = "evasion";
+    type Trial = Traced<AngleOutcome>;
+    type Report = EvasionReport;
+
+    fn trial_count(&self) -> usize {
+        self.controllers.len() * self.angles
+    }
+
+    fn run_slice(
+        &self,
+        jobs: usize,
+        shard: Option<Shard>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, Self::Trial)>> {
+        let texture = self.validate()?;
+        let bearings = self.bearings();
+        parallel::slice(self.trial_count(), jobs, shard, |i| {
+            let (kind, b) = (
+                self.controllers[i / bearings.len()],
+                bearings[i % bearings.len()],
+            );
+            let e = Encounter {
+                kind,
+                threats: vec![self.threat(b)],
+                // each bearing its own noise and LGMD2 turn, the same for every controller
+                seed: Rng::new(self.seed)
+                    .fork((i % bearings.len()) as u64)
+                    .next_u64(),
+                params: self.params,
+                fsm: self.fsm,
+                texture: texture.clone(),
+                noise: true,
+                exposure: self.exposure,
+                trace: self.trace,
+            };
+            let r = encounter::run(&e, progress);
+            Traced {
+                outcome: AngleOutcome::new(b, &r),
+                trace: (format!("{},{b:.2}", kind.name()), r.trace),
             }
         })
-        .collect();
-    Ok(EvasionReport {
-        config: config.clone(),
-        controllers,
-        wall_clock_s: t0.elapsed().as_secs_f64(),
-        traces,
-    })
+    }
+
+    fn report(&self, trials: Vec<Self::Trial>, wall_clock_s: f64, _jobs: usize) -> EvasionReport {
+        let (results, traces): (Vec<AngleOutcome>, Vec<_>) =
+            trials.into_iter().map(|t| (t.outcome, t.trace)).unzip();
+        let n = self.angles;
+        let controllers = self
+            .controllers
+            .iter()
+            .enumerate()
+            .map(|(c, &kind)| {
+                let per_angle: Vec<AngleOutcome> = results[c * n..(c + 1) * n].to_vec();
+                ControllerEvasion {
+                    controller: kind.name(),
+                    angles: per_angle.len(),
+                    correct_side: per_angle.iter().filter(|o| o.correct_side).count(),
+                    collisions: per_angle.iter().filter(|o| o.collided).count(),
+                    alerted: per_angle
+                        .iter()
+                        .filter(|o| o.first_alert_s.is_some())
+                        .count(),
+                    per_angle,
+                }
+            })
+            .collect();
+        EvasionReport {
+            config: self.clone(),
+            controllers,
+            wall_clock_s,
+            traces,
+        }
+    }
 }
 
 impl Report for EvasionReport {

@@ -11,7 +11,8 @@
 //! | `swarm`: six robots spinning on approach; spread of the group over time | Fig. 7, Sec. IV-D | [`swarm`] |
 //!
 //! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
-//! runs independent trials on worker threads.
+//! runs independent trials on worker threads; [`sweep`] splits a run into shards (`--shard
+//! I/N`) and pools them again (`alvs merge`).
 
 use std::path::{Path, PathBuf};
 
@@ -26,6 +27,7 @@ pub mod evasion;
 pub mod parallel;
 pub mod stimuli;
 pub mod swarm;
+pub mod sweep;
 pub mod two_threats;
 pub mod validate;
 

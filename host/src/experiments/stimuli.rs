@@ -27,8 +27,9 @@ use std::path::{Path, PathBuf};
 use alvs_tasks::model::fsm::Behaviour;
 use alvs_tasks::{Frame, Params};
 use anyhow::{Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
+use super::sweep::{Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::controller::{Approach, Stationary};
 use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
@@ -175,7 +176,7 @@ impl StimuliConfig {
 pub type TrackPoint = [u32; 4];
 
 /// One attention field over its life.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Track {
     /// The field's id.
     pub id: u32,
@@ -184,10 +185,11 @@ pub struct Track {
 }
 
 /// One scene's outcome.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneResult {
     /// Scene name.
-    pub name: &'static str,
+    #[serde(deserialize_with = "scene_name")]
+    pub name: super::sweep::StaticName,
     /// Obstacles.
     pub objects: usize,
     /// The obstacles approach.
@@ -212,8 +214,22 @@ pub struct SceneResult {
     pub tracks: Vec<Track>,
     /// Each obstacle's image column per frame (`null` when out of view).
     pub object_columns: Vec<Vec<Option<f32>>>,
+    /// The observer's camera frames, for the layer pictures; not in the JSON, so a merged
+    /// run (`alvs merge`) has none and draws only the tracks.
     #[serde(skip)]
     observed: Vec<Frame>,
+}
+
+/// Reads a scene's name back as the program's own (see [`super::sweep::static_name`]).
+fn scene_name<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<&'static str, D::Error> {
+    let s = String::deserialize(d)?;
+    scenes()
+        .iter()
+        .map(|sc| sc.name)
+        .find(|n| *n == s)
+        .ok_or_else(|| serde::de::Error::custom(format!("unknown scene {s:?}")))
 }
 
 /// Everything a run produced.
@@ -229,19 +245,42 @@ pub struct StimuliReport {
 
 /// Runs the five scenes on `jobs` threads (0 = all cores).
 pub fn run(config: &StimuliConfig, jobs: usize) -> Result<StimuliReport> {
-    let texture = config.validate()?;
-    let t0 = std::time::Instant::now();
-    let all = scenes();
-    let scenes = parallel::map(all.len(), jobs, |i| {
-        run_scene(&all[i], config, &World::with_texture(texture.clone()))
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>>>()?;
-    Ok(StimuliReport {
-        config: config.clone(),
-        scenes,
-        wall_clock_s: t0.elapsed().as_secs_f64(),
-    })
+    super::sweep::run_all(config, jobs, &|_| {})
+}
+
+/// Trial `k` is scene `k` (translate, recede, approach, double, triple).
+impl Sweep for StimuliConfig {
+    const NAME: &'static str = "stimuli";
+    type Trial = SceneResult;
+    type Report = StimuliReport;
+
+    fn trial_count(&self) -> usize {
+        scenes().len()
+    }
+
+    fn run_slice(
+        &self,
+        jobs: usize,
+        shard: Option<Shard>,
+        _progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, SceneResult)>> {
+        let texture = self.validate()?;
+        let all = scenes();
+        parallel::slice(all.len(), jobs, shard, |i| {
+            run_scene(&all[i], self, &World::with_texture(texture.clone()))
+        })?
+        .into_iter()
+        .map(|(i, r)| r.map(|r| (i, r)))
+        .collect()
+    }
+
+    fn report(&self, scenes: Vec<SceneResult>, wall_clock_s: f64, _jobs: usize) -> StimuliReport {
+        StimuliReport {
+            config: self.clone(),
+            scenes,
+            wall_clock_s,
+        }
+    }
 }
 
 fn observer() -> Pose {
@@ -431,6 +470,10 @@ impl Report for StimuliReport {
                 .save_png(&path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             paths.push(path);
+            if s.observed.is_empty() {
+                // a merged run: the camera frames stayed with the shards
+                continue;
+            }
             replay::run(
                 &s.observed,
                 self.config.params,

@@ -20,9 +20,10 @@ use std::path::{Path, PathBuf};
 
 use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::arena::start_poses;
+use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::controller::Scripted;
 use crate::arena::{
@@ -108,10 +109,11 @@ impl SwarmConfig {
 }
 
 /// One trial's outcome.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SwarmTrial {
     /// "swarm", "alvs", "lgmd2".
-    pub controller: &'static str,
+    #[serde(deserialize_with = "sweep::static_name")]
+    pub controller: sweep::StaticName,
     /// Robots.
     pub robots: usize,
     /// Simulated minutes.
@@ -192,6 +194,44 @@ pub fn run(
     jobs: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<SwarmReport> {
+    sweep::run_all(config, jobs, progress)
+}
+
+/// Trial `k` is controller `k`.
+impl Sweep for SwarmConfig {
+    const NAME: &'static str = "swarm";
+    type Trial = SwarmTrial;
+    type Report = SwarmReport;
+
+    fn trial_count(&self) -> usize {
+        self.controllers.len()
+    }
+
+    fn run_slice(
+        &self,
+        jobs: usize,
+        shard: Option<Shard>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, SwarmTrial)>> {
+        run_slice(self, jobs, shard, progress)
+    }
+
+    fn report(&self, trials: Vec<SwarmTrial>, wall_clock_s: f64, _jobs: usize) -> SwarmReport {
+        SwarmReport {
+            config: self.clone(),
+            trials,
+            wall_clock_s,
+        }
+    }
+}
+
+/// The trials of `shard` (all without one), in index order.
+fn run_slice(
+    config: &SwarmConfig,
+    jobs: usize,
+    shard: Option<Shard>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<(usize, SwarmTrial)>> {
     let texture = config.validate()?;
     let arena = World::default().arena;
     // the others start where they would without a leader; the leader finds room among them
@@ -203,8 +243,7 @@ pub fn run(
     };
     let all_starts: Vec<Pose> = starts.iter().copied().chain(leader_pose).collect();
     let (spin_left, spin_right) = leader_wheels_mm_s(&config.fsm);
-    let t0 = std::time::Instant::now();
-    let trials = parallel::map(config.controllers.len(), jobs, |c| {
+    parallel::slice(config.controllers.len(), jobs, shard, |c| {
         let t = std::time::Instant::now();
         let kind = config.controllers[c];
         let world = World::with_texture(texture.clone());
@@ -311,11 +350,6 @@ pub fn run(
             trails,
             wall_clock_s: t.elapsed().as_secs_f64(),
         }
-    });
-    Ok(SwarmReport {
-        config: config.clone(),
-        trials,
-        wall_clock_s: t0.elapsed().as_secs_f64(),
     })
 }
 

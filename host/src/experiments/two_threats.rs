@@ -17,9 +17,10 @@ use std::path::{Path, PathBuf};
 
 use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use super::encounter::{self, Encounter, EncounterResult, Side, Threat};
+use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::{Kind, Rng, TopDown, World};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
@@ -72,7 +73,7 @@ impl Default for TwoThreatConfig {
 }
 
 /// The geometry of one run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Pair {
     /// The faster obstacle.
     pub fast: ThreatJson,
@@ -81,7 +82,7 @@ pub struct Pair {
 }
 
 /// An obstacle for JSON.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ThreatJson {
     /// Bearing, degrees, positive = right.
     pub bearing_deg: f64,
@@ -156,7 +157,7 @@ impl TwoThreatConfig {
 }
 
 /// One run's outcome.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunOutcome {
     /// The geometry.
     pub threats: Pair,
@@ -230,59 +231,85 @@ pub fn run(
     jobs: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<TwoThreatReport> {
-    let texture = config.validate()?;
-    let t0 = std::time::Instant::now();
-    let n = config.runs;
-    let kinds = &config.controllers;
-    let results = parallel::map(kinds.len() * n, jobs, |i| {
-        let (kind, r) = (kinds[i / n], i % n);
-        let pair = config.pair(r);
-        let e = Encounter {
-            kind,
-            threats: vec![pair.fast.into(), pair.slow.into()],
-            // every controller meets the same noise in run r
-            seed: Rng::new(config.seed).fork(r as u64).next_u64(),
-            params: config.params,
-            fsm: config.fsm,
-            texture: texture.clone(),
-            noise: true,
-            exposure: config.exposure,
-            trace: config.trace,
-        };
-        let res = encounter::run(&e, progress);
-        let lead = format!("{},{r}", kind.name());
-        (RunOutcome::new(pair, &res), (lead, res.trace))
-    });
-    let (results, traces): (Vec<RunOutcome>, Vec<_>) = results.into_iter().unzip();
-    let controllers = kinds
-        .iter()
-        .enumerate()
-        .map(|(c, &kind)| {
-            let per_run: Vec<RunOutcome> = results[c * n..(c + 1) * n].to_vec();
-            let away = per_run.iter().filter(|o| o.away_from_faster).count();
-            ControllerTwoThreats {
-                controller: kind.name(),
-                runs: n,
-                away_from_faster: away,
-                fraction: away as f64 / n as f64,
-                towards_faster: per_run
-                    .iter()
-                    .filter(|o| o.side == Side::away_from(o.threats.slow.bearing_deg))
-                    .count(),
-                collisions: per_run
-                    .iter()
-                    .filter(|o| o.collided_fast || o.collided_slow)
-                    .count(),
-                per_run,
+    sweep::run_all(config, jobs, progress)
+}
+
+/// Trial `k` is (controller `k / runs`, run `k mod runs`).
+impl Sweep for TwoThreatConfig {
+    const NAME: &'static str = "two-threats";
+    type Trial = Traced<RunOutcome>;
+    type Report = TwoThreatReport;
+
+    fn trial_count(&self) -> usize {
+        self.controllers.len() * self.runs
+    }
+
+    fn run_slice(
+        &self,
+        jobs: usize,
+        shard: Option<Shard>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, Self::Trial)>> {
+        let texture = self.validate()?;
+        let n = self.runs;
+        parallel::slice(self.trial_count(), jobs, shard, |i| {
+            let (kind, r) = (self.controllers[i / n], i % n);
+            let pair = self.pair(r);
+            let e = Encounter {
+                kind,
+                threats: vec![pair.fast.into(), pair.slow.into()],
+                // every controller meets the same noise in run r
+                seed: Rng::new(self.seed).fork(r as u64).next_u64(),
+                params: self.params,
+                fsm: self.fsm,
+                texture: texture.clone(),
+                noise: true,
+                exposure: self.exposure,
+                trace: self.trace,
+            };
+            let res = encounter::run(&e, progress);
+            Traced {
+                outcome: RunOutcome::new(pair, &res),
+                trace: (format!("{},{r}", kind.name()), res.trace),
             }
         })
-        .collect();
-    Ok(TwoThreatReport {
-        config: config.clone(),
-        controllers,
-        wall_clock_s: t0.elapsed().as_secs_f64(),
-        traces,
-    })
+    }
+
+    fn report(&self, trials: Vec<Self::Trial>, wall_clock_s: f64, _jobs: usize) -> TwoThreatReport {
+        let (results, traces): (Vec<RunOutcome>, Vec<_>) =
+            trials.into_iter().map(|t| (t.outcome, t.trace)).unzip();
+        let n = self.runs;
+        let controllers = self
+            .controllers
+            .iter()
+            .enumerate()
+            .map(|(c, &kind)| {
+                let per_run: Vec<RunOutcome> = results[c * n..(c + 1) * n].to_vec();
+                let away = per_run.iter().filter(|o| o.away_from_faster).count();
+                ControllerTwoThreats {
+                    controller: kind.name(),
+                    runs: n,
+                    away_from_faster: away,
+                    fraction: away as f64 / n as f64,
+                    towards_faster: per_run
+                        .iter()
+                        .filter(|o| o.side == Side::away_from(o.threats.slow.bearing_deg))
+                        .count(),
+                    collisions: per_run
+                        .iter()
+                        .filter(|o| o.collided_fast || o.collided_slow)
+                        .count(),
+                    per_run,
+                }
+            })
+            .collect();
+        TwoThreatReport {
+            config: self.clone(),
+            controllers,
+            wall_clock_s,
+            traces,
+        }
+    }
 }
 
 impl Report for TwoThreatReport {

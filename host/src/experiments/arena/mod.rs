@@ -36,10 +36,11 @@ use std::time::Instant;
 
 use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::encounter;
-use super::parallel::default_jobs;
+use super::parallel;
+use super::sweep::{self, Shard, Sweep};
 use crate::arena::contacts::{
     EPISODE_HYSTERESIS_MM, ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM,
 };

@@ -3,7 +3,7 @@
 use super::*;
 
 /// Counts of one kind of contact in a trial or an aggregate.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TallyStats {
     /// Encounter episodes.
     pub encounters: u64,
@@ -38,7 +38,7 @@ impl TallyStats {
 }
 
 /// A pose for JSON.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PoseJson {
     /// mm.
     pub x_mm: f64,
@@ -59,7 +59,7 @@ impl From<Pose> for PoseJson {
 }
 
 /// A collision, where and when it began.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CollisionMark {
     /// Simulated time, s.
     pub time_s: f64,
@@ -74,10 +74,11 @@ pub struct CollisionMark {
 }
 
 /// The outcome of one trial.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trial {
     /// "alvs", "lgmd2" or "swarm".
-    pub controller: &'static str,
+    #[serde(deserialize_with = "sweep::static_name")]
+    pub controller: sweep::StaticName,
     /// The background specification.
     pub background: String,
     /// Seed of the run.

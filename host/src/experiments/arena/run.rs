@@ -36,40 +36,78 @@ pub fn total_frames(config: &ArenaConfig) -> u64 {
         .saturating_mul((bgs.len() * ks.len()) as u64)
 }
 
-/// Runs every trial of `config` on `jobs` threads (0 = [`default_jobs`]). `progress` is told
+/// Runs every trial of `config` on `jobs` threads (0 = [`parallel::default_jobs`]). `progress` is told
 /// of simulated camera frames as they complete (from any thread).
 pub fn run(
     config: &ArenaConfig,
     jobs: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<ArenaReport> {
-    let prep = config.prepare()?;
-    let t0 = Instant::now();
-    let plan: Vec<(Kind, usize)> = prep
-        .controllers
-        .iter()
-        .flat_map(|&k| (0..prep.backgrounds.len()).map(move |b| (k, b)))
-        .collect();
-    let jobs = if jobs == 0 { default_jobs() } else { jobs }.clamp(1, plan.len());
-    let trials: Vec<Trial> = crate::experiments::parallel::map(plan.len(), jobs, |i| {
-        let (kind, b) = plan[i];
-        run_trial(config, &prep, kind, b, progress)
-    });
-    let summaries = prep
-        .controllers
-        .iter()
-        .map(|k| {
-            let mine: Vec<&Trial> = trials.iter().filter(|t| t.controller == k.name()).collect();
-            summarise(k.name(), &mine)
+    sweep::run_all(config, jobs, progress)
+}
+
+/// The controllers of `config` without repeats, in its order.
+fn controllers(config: &ArenaConfig) -> Vec<Kind> {
+    let mut v: Vec<Kind> = Vec::new();
+    for &k in &config.controllers {
+        if !v.contains(&k) {
+            v.push(k);
+        }
+    }
+    v
+}
+
+/// The backgrounds of `config` without repeats, in its order.
+fn backgrounds(config: &ArenaConfig) -> Vec<&str> {
+    let mut v: Vec<&str> = Vec::new();
+    for b in &config.backgrounds {
+        if !v.contains(&b.as_str()) {
+            v.push(b);
+        }
+    }
+    v
+}
+
+/// Trial `k` is (controller `k / backgrounds`, background `k mod backgrounds`).
+impl Sweep for ArenaConfig {
+    const NAME: &'static str = "arena";
+    type Trial = Trial;
+    type Report = ArenaReport;
+
+    fn trial_count(&self) -> usize {
+        controllers(self).len() * backgrounds(self).len()
+    }
+
+    fn run_slice(
+        &self,
+        jobs: usize,
+        shard: Option<Shard>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, Trial)>> {
+        let prep = self.prepare()?;
+        let nb = prep.backgrounds.len();
+        parallel::slice(self.trial_count(), jobs, shard, |k| {
+            run_trial(self, &prep, prep.controllers[k / nb], k % nb, progress)
         })
-        .collect();
-    Ok(ArenaReport {
-        config: config.clone(),
-        trials,
-        summaries,
-        wall_clock_s: t0.elapsed().as_secs_f64(),
-        jobs,
-    })
+    }
+
+    fn report(&self, trials: Vec<Trial>, wall_clock_s: f64, jobs: usize) -> ArenaReport {
+        let summaries = controllers(self)
+            .iter()
+            .map(|k| {
+                let mine: Vec<&Trial> =
+                    trials.iter().filter(|t| t.controller == k.name()).collect();
+                summarise(k.name(), &mine)
+            })
+            .collect();
+        ArenaReport {
+            config: self.clone(),
+            trials,
+            summaries,
+            wall_clock_s,
+            jobs,
+        }
+    }
 }
 
 pub(super) fn round1(v: f64) -> f64 {

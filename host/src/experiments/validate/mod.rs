@@ -92,7 +92,7 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
     let plan: Vec<(usize, u64)> = (0..runs.len())
         .flat_map(|r| config.seeds.iter().map(move |&s| (r, s)))
         .collect();
-    let sims = parallel::map(plan.len(), config.jobs, |i| {
+    let sims = parallel::slice(plan.len(), config.jobs, None, |i| {
         let (r, seed) = plan[i];
         let run = &runs[r];
         let real = run.stats(&arena);
@@ -114,9 +114,9 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
                 ..run.clone()
             },
         }
-    });
+    })?;
     let mut by_run: Vec<Vec<SimResult>> = vec![Vec::new(); runs.len()];
-    for ((r, _), s) in plan.iter().zip(sims) {
+    for ((r, _), (_, s)) in plan.iter().zip(sims) {
         by_run[*r].push(s);
     }
     let comparisons = runs
