@@ -203,7 +203,7 @@ fn a_simulated_square_gives_known_statistics() {
 #[test]
 fn the_committed_data_loads_and_gives_the_documented_figures() {
     let arena = recordings::arena().expect("arena.json");
-    // docs/recordings.md: 1309 x 751 mm, 1.293 px/mm, 10 obstacles found.
+    // docs/recordings.md: 1309 x 751 mm, 1.293 px/mm, 13 of the 15 obstacles found.
     assert!(
         (arena.size_x_mm - 1308.6).abs() < 1.0,
         "{}",
@@ -211,7 +211,8 @@ fn the_committed_data_loads_and_gives_the_documented_figures() {
     );
     assert!((arena.size_y_mm - 751.4).abs() < 1.0, "{}", arena.size_y_mm);
     assert!((arena.px_per_mm - 1.2927).abs() < 0.001);
-    assert_eq!(arena.obstacles.len(), 10);
+    assert_eq!(arena.obstacles.len(), 13);
+    assert!((arena.obstacle_k.expect("k") - 0.0364).abs() < 0.0005);
     assert!(arena.camera_shift_px < 5.0);
     let runs = recordings::all_runs().expect("the runs");
     assert_eq!(runs.len(), RUNS.len());
