@@ -251,21 +251,9 @@ fn measure_arena(
         .partition(|o| (30.0..70.0).contains(&(o.diameter_px / px_per_mm)));
     let mut diam: Vec<f64> = seen.iter().map(|o| o.diameter_px).collect();
     diam.sort_by(f64::total_cmp);
-    // Only the free-standing obstacles show their top over the floor; their far end is often
-    // cut by the dark inner ring, which makes k too small or negative. A value is kept only
-    // when at least two positive ones agree within 0.01.
-    let ks: Vec<f64> = seen
-        .iter()
-        .filter_map(|o| o.k)
-        .filter(|&k| k > 0.0)
-        .collect();
-    let spread =
-        ks.iter().fold(f64::MIN, |a, &b| a.max(b)) - ks.iter().fold(f64::MAX, |a, &b| a.min(b));
-    let obstacle_k =
-        (ks.len() >= 2 && spread <= 0.01).then(|| ks.iter().sum::<f64>() / ks.len() as f64);
     let med = |v: &[f64]| v.get(v.len() / 2).copied().unwrap_or(f64::NAN);
     let obstacle_diameter_mm = med(&diam) / px_per_mm;
-    let obstacles = seen
+    let mut obstacles: Vec<Obstacle> = seen
         .iter()
         .map(|o| {
             let (mut x, mut y) = cal.floor_mm(o.base_px.0, o.base_px.1);
@@ -273,28 +261,83 @@ fn measure_arena(
                 // At a wall: the rolls stand against it (every picture shows them touching),
                 // and only their side is seen over the floor, so the distance to the nearest
                 // wall is set to the radius rather than taken from the side's extent.
-                let r = o.diameter_px / px_per_mm / 2.0;
-                let gaps = [x, size_mm.0 - x, y, size_mm.1 - y];
-                let nearest = (0..4)
-                    .min_by(|&a, &b| gaps[a].total_cmp(&gaps[b]))
-                    .unwrap_or(0);
-                match nearest {
-                    0 => x = r,
-                    1 => x = size_mm.0 - r,
-                    2 => y = r,
-                    _ => y = size_mm.1 - r,
-                }
+                (x, y) = against_wall((x, y), o.diameter_px / px_per_mm / 2.0, size_mm);
             }
             Obstacle {
                 x_mm: x,
                 y_mm: y,
                 diameter_mm: o.diameter_px / px_per_mm,
-                k: o.k,
-                top_px: o.top_px,
+                k: None,
+                top_px: None,
                 base_px: o.base_px,
+                seen_as: "side".into(),
             }
         })
         .collect();
+    // The tops: each obstacle's nearest hole (within 60 px of where its top should be) fixes
+    // its k = h / (H - h): the top is seen (1 + k) times as far from the nadir as the base.
+    let holes = geometry::find_holes(img, marker);
+    let nadir_mm = cal.floor_mm(nadir.0, nadir.1);
+    let dist = |a: (f64, f64), b: (f64, f64)| ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt();
+    let mut used = vec![false; holes.len()];
+    for o in &mut obstacles {
+        let base = (o.x_mm, o.y_mm);
+        let best = holes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !used[*i])
+            .map(|(i, &hp)| (i, hp, cal.floor_mm(hp.0, hp.1)))
+            .filter(|&(_, _, hm)| dist(hm, base) < 60.0 / px_per_mm)
+            .min_by(|a, b| dist(a.2, base).total_cmp(&dist(b.2, base)));
+        if let Some((i, hp, hm)) = best {
+            used[i] = true;
+            o.top_px = Some(hp);
+            o.k = Some(dist(hm, nadir_mm) / dist(base, nadir_mm).max(1.0) - 1.0);
+        }
+    }
+    // Near the nadir the top's shift is a few px, all noise: k from obstacles 300 px out.
+    let mut ks: Vec<f64> = obstacles
+        .iter()
+        .filter(|o| dist(o.base_px, nadir) > 300.0)
+        .filter_map(|o| o.k)
+        .collect();
+    ks.sort_by(f64::total_cmp);
+    let obstacle_k = (ks.len() >= 3).then(|| med(&ks));
+    // Holes with no obstacle side on the floor (the corners, and where a wall's bright foot
+    // swallowed the side): the base is the top brought back toward the nadir by 1 + k, the
+    // diameter the others' median, and an obstacle at a wall is set against it.
+    if let Some(k) = obstacle_k {
+        for (i, &hp) in holes.iter().enumerate() {
+            if used[i] {
+                continue;
+            }
+            let base_px = (
+                nadir.0 + (hp.0 - nadir.0) / (1.0 + k),
+                nadir.1 + (hp.1 - nadir.1) / (1.0 + k),
+            );
+            let (x, y) = cal.floor_mm(base_px.0, base_px.1);
+            let r = obstacle_diameter_mm / 2.0;
+            // Only holes over or beside the floor (not the room outside the arena).
+            if x < -r || y < -r || x > size_mm.0 + r || y > size_mm.1 + r {
+                continue;
+            }
+            let (x, y) = against_wall((x, y), r, size_mm);
+            obstacles.push(Obstacle {
+                x_mm: x,
+                y_mm: y,
+                diameter_mm: obstacle_diameter_mm,
+                k: None,
+                top_px: Some(hp),
+                base_px,
+                seen_as: "top".into(),
+            });
+        }
+    }
+    obstacles.sort_by(|a, b| {
+        (a.y_mm > size_mm.1 / 2.0, a.x_mm)
+            .partial_cmp(&(b.y_mm > size_mm.1 / 2.0, b.x_mm))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
     Ok(ArenaGeometry {
         size_x_mm: size_mm.0,
         size_y_mm: size_mm.1,
@@ -308,6 +351,7 @@ fn measure_arena(
         obstacle_diameter_mm,
         obstacle_k,
         obstacle_height_mm: obstacle_k.map(height),
+        holes_unused: holes.len() - used.iter().filter(|&&u| u).count(),
         wall_band_px: band_px,
         wall_k: k_wall,
         wall_height_mm: height(k_wall),
@@ -325,4 +369,24 @@ fn measure_arena(
             }],
         },
     })
+}
+
+/// `p` moved to touch the nearest wall when it is within a radius and a half of it (a roll
+/// standing against the wall); farther ones stay where they are.
+fn against_wall(p: (f64, f64), r: f64, size: (f64, f64)) -> (f64, f64) {
+    let (mut x, mut y) = p;
+    let gaps = [x, size.0 - x, y, size.1 - y];
+    let nearest = (0..4)
+        .min_by(|&a, &b| gaps[a].total_cmp(&gaps[b]))
+        .unwrap_or(0);
+    if gaps[nearest] > 2.5 * r {
+        return p;
+    }
+    match nearest {
+        0 => x = r,
+        1 => x = size.0 - r,
+        2 => y = r,
+        _ => y = size.1 - r,
+    }
+    (x, y)
 }

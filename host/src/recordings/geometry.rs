@@ -215,3 +215,55 @@ pub fn find_obstacles(
     }
     out
 }
+
+/// The obstacles' tops: dark roundish holes (the rolls' insides) enclosed by bright pixels,
+/// 8-45 px across, filling over half their box; their centres, px. Holes within `exclude`
+/// (the robot, whose marker encloses dark pixels too) are skipped.
+pub fn find_holes(img: &Rgb8, exclude: Option<(f64, f64, f64)>) -> Vec<(f64, f64)> {
+    let (w, h) = (img.width, img.height);
+    let dark = |i: usize| {
+        let p = img.pixels[i];
+        !is_drawing(p) && luma(p) < BRIGHT
+    };
+    let mut seen = vec![false; w * h];
+    let mut out = Vec::new();
+    let mut stack = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || !dark(start) {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        let (mut n, mut sx, mut sy, mut touches) = (0usize, 0.0, 0.0, false);
+        let (mut x0, mut x1, mut y0, mut y1) = (w, 0, h, 0);
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i % w, i / w);
+            n += 1;
+            sx += x as f64;
+            sy += y as f64;
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            if x == 0 || y == 0 || x + 1 == w || y + 1 == h {
+                touches = true;
+                continue;
+            }
+            for j in [i - 1, i + 1, i - w, i + w] {
+                if !seen[j] && dark(j) {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        let (bw, bh) = ((x1 - x0 + 1) as f64, (y1 - y0 + 1) as f64);
+        let roundish = (8.0..=45.0).contains(&bw)
+            && (8.0..=45.0).contains(&bh)
+            && bw.max(bh) / bw.min(bh) < 1.8
+            && n as f64 > 0.5 * bw * bh;
+        let c = (sx / n as f64, sy / n as f64);
+        let excluded =
+            exclude.is_some_and(|(ex, ey, r)| (c.0 - ex).powi(2) + (c.1 - ey).powi(2) < r * r);
+        if !touches && roundish && !excluded {
+            out.push(c);
+        }
+    }
+    out
+}

@@ -36,19 +36,24 @@ pub use stats::{compare, PathStats, Verdict};
 pub use track::{track_from_trail, Drawing, Segment, SnapshotFix, Track};
 
 /// An obstacle cylinder, floor mm (arena frame: origin top-left, x right, y down).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Obstacle {
     /// Centre of its base.
     pub x_mm: f64,
     pub y_mm: f64,
-    /// Diameter measured across its side (slightly magnified: half-way up).
+    /// Diameter measured across its side (slightly magnified: the side's top is nearer the
+    /// camera), or the others' median for one seen only by its top.
     pub diameter_mm: f64,
-    /// `h / (H - h)` from its top's outward shift (h its height, H the camera's); `None` at
-    /// a wall, where its top is not over the floor.
+    /// `h / (H - h)` from its top's outward shift (h its height, H the camera's), when its
+    /// top's hole was found beside its side.
     pub k: Option<f64>,
-    /// Where it was seen: its top's centre and its base's centre, image px.
-    pub top_px: (f64, f64),
+    /// Its top's centre (the hole in the roll), image px, when found.
+    pub top_px: Option<(f64, f64)>,
+    /// Its base's centre, image px.
     pub base_px: (f64, f64),
+    /// How it was found: "side" (its side over the floor) or "top" (only its top's hole, the
+    /// base placed back toward the nadir with the median k).
+    pub seen_as: String,
 }
 
 /// The recorded arena, as measured (docs/recordings.md says how and how well).
@@ -74,10 +79,12 @@ pub struct ArenaGeometry {
     pub skipped_blobs: usize,
     /// Median obstacle diameter, mm.
     pub obstacle_diameter_mm: f64,
-    /// Obstacle `k` and the height it gives with `camera_height_mm`; `None` when the
-    /// free-standing obstacles' values disagree (see docs/recordings.md).
+    /// Median obstacle `k` (over those whose top and side were both found) and the height it
+    /// gives with `camera_height_mm`; `None` with fewer than 3 such obstacles.
     pub obstacle_k: Option<f64>,
     pub obstacle_height_mm: Option<f64>,
+    /// Dark roundish holes matched to no obstacle and not placed as one (outside the arena).
+    pub holes_unused: usize,
     /// Median width of the left and right walls' inner-face band, px.
     pub wall_band_px: f64,
     /// `h / (H - h)` of the walls, and their height with `camera_height_mm`.
