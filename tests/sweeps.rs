@@ -230,6 +230,10 @@ fn merge_refuses_what_is_not_one_runs_shards() {
         v["alvs_shard"]["version"] = "0.0.1+0000".into()
     });
     merge_fails(&[a, &old], "same build");
+    let old_a = edited(a, &dir.join("old-a.json"), |v| {
+        v["alvs_shard"]["version"] = "0.0.1+0000".into()
+    });
+    merge_fails(&[&old_a, &old], "merge with the build that ran them");
     let moved = edited(b, &dir.join("moved.json"), |v| {
         v["trials"][0]["index"] = 0.into()
     });
