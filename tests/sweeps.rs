@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::ArenaConfig;
+use alvs_host::experiments::stimuli::StimuliConfig;
 use alvs_host::experiments::swarm::SwarmConfig;
 use alvs_host::experiments::sweep::{self, Shard, Sweep};
 use alvs_host::experiments::two_threats::TwoThreatConfig;
@@ -110,6 +111,27 @@ fn merged_two_threats_and_swarm_shards_are_the_unsharded_run() {
     let whole = numbers(sweep::run_all(&swarm, 2, &|_| {}).unwrap().json());
     let merged = sweep::merge(&swarm, &shard_files(&swarm, 2, 1, &dir)).unwrap();
     assert_eq!(numbers(merged.json()), whole);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A merged stimuli run has its JSON, and draws the tracks only (the layer pictures replay
+/// camera frames that stay with the shards).
+#[test]
+fn merged_stimuli_shards_are_the_unsharded_json_and_its_tracks() {
+    let dir = tmp("sweep-stimuli");
+    let config = StimuliConfig::default();
+    let whole = sweep::run_all(&config, 2, &|_| {}).unwrap();
+    let merged = sweep::merge(&config, &shard_files(&config, 3, 1, &dir)).unwrap();
+    assert_eq!(numbers(merged.json()), numbers(whole.json()));
+    merged.write_pictures(&dir.join("png")).unwrap();
+    let mut drawn: Vec<String> = std::fs::read_dir(dir.join("png"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    drawn.sort();
+    let tracks =
+        ["approach", "double", "recede", "translate", "triple"].map(|s| format!("{s}_tracks.png"));
+    assert_eq!(drawn, tracks);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -230,6 +252,10 @@ fn merge_refuses_what_is_not_one_runs_shards() {
         v["alvs_shard"]["version"] = "0.0.1+0000".into()
     });
     merge_fails(&[a, &old], "same build");
+    let old_a = edited(a, &dir.join("old-a.json"), |v| {
+        v["alvs_shard"]["version"] = "0.0.1+0000".into()
+    });
+    merge_fails(&[&old_a, &old], "merge with the build that ran them");
     let moved = edited(b, &dir.join("moved.json"), |v| {
         v["trials"][0]["index"] = 0.into()
     });

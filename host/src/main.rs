@@ -115,8 +115,10 @@ enum Cmd {
     /// table, JSON and pictures (docs/sweeps.md).
     ///
     /// The shards carry their command line, configuration and program version, so nothing
-    /// about the run is given again here; shards of different runs or builds, a missing or
-    /// repeated shard and an unreadable file are refused.
+    /// about the run is given again here (nor are its background pictures needed); shards of
+    /// different runs or builds, a missing or repeated shard and an unreadable file are
+    /// refused. A merged `stimuli` draws its tracks pictures only: the layer pictures replay
+    /// camera frames the shard files do not carry.
     Merge(shards::MergeArgs),
 }
 

@@ -209,8 +209,8 @@ pub fn read(path: &Path) -> Result<ShardFile> {
     })
 }
 
-/// Checks that `files` are the N shards of one run, each once; returns the head they share.
-/// Each failure is one line.
+/// Checks that `files` are the N shards of one run made by this build, each once; returns the
+/// head they share. Each failure is one line.
 pub fn check(files: &[ShardFile]) -> Result<&Header> {
     let Some(first) = files.first() else {
         bail!("no shard file to merge");
@@ -244,6 +244,14 @@ pub fn check(files: &[ShardFile]) -> Result<&Header> {
             return Err(differ("splits (N differs)"));
         }
     }
+    // the report is this build's code: pooled by another build, it might not be what the
+    // shards' build would have printed
+    ensure!(
+        h.version == VERSION,
+        "the shards were made by alvs {} but this is alvs {VERSION}; merge with the build that \
+         ran them",
+        h.version
+    );
     let n = h.shard.count;
     let mut seen: Vec<Option<&str>> = vec![None; n];
     for f in files {
