@@ -70,7 +70,8 @@ pub fn texture(spec: &str) -> Result<WallTexture> {
     if !known && !Path::new(spec).exists() {
         bail!(
             "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], checker[:SIZE_MM], \
-             clutter[:SEED], outdoor[:SEED] nor an existing PNG/JPEG file"
+             clutter[:SEED], outdoor[:SEED], ribs[:PERIOD_MM[:DARK:LIGHT]] nor an existing \
+             PNG/JPEG file"
         );
     }
     WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
