@@ -143,9 +143,11 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
     })
 }
 
-/// Mean of `f` over a run's simulations.
+/// Mean of `f` over a run's simulations that give a finite value (a run without turns has no
+/// wall distance at turns: its mean is over the others).
 fn mean(sims: &[SimResult], f: impl Fn(&SimResult) -> f64) -> f64 {
-    sims.iter().map(&f).sum::<f64>() / sims.len().max(1) as f64
+    let v: Vec<f64> = sims.iter().map(f).filter(|v| v.is_finite()).collect();
+    v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
 impl Report for ValidateReport {
@@ -158,16 +160,7 @@ impl Report for ValidateReport {
         s += "| run | role | ≤50 mm real/sim | ≤100 mm | turns/min | run mm (median) | wall mm at turns (median) | pressed | coverage | speed mm/s | pass |\n";
         s += "|---|---|---|---|---|---|---|---|---|---|---|\n";
         for r in &self.runs {
-            // a run without turns has no wall distance at turns: its mean is over the others
-            let m = |f: &dyn Fn(&PathStats) -> f64| {
-                let v: Vec<f64> = r
-                    .sims
-                    .iter()
-                    .map(|x| f(&x.stats))
-                    .filter(|v| v.is_finite())
-                    .collect();
-                v.iter().sum::<f64>() / v.len().max(1) as f64
-            };
+            let m = |f: &dyn Fn(&PathStats) -> f64| mean(&r.sims, |x| f(&x.stats));
             s += &format!(
                 "| {} | {} | {:.2} / {:.2} | {:.2} / {:.2} | {:.1} / {:.1} | {:.0} / {:.0} | {:.0} / {:.0} | {:.2} / {:.2} | {:.2} / {:.2} | {:.0} / {:.0} | {} of {} |\n",
                 r.run,
