@@ -2,11 +2,12 @@
 //! bad input, and the statistics' comparison.
 
 use alvs_host::recordings::calibration::{find_floor, Calibration, Homography};
+use alvs_host::recordings::compare::{ks_critical, ks_distance};
 use alvs_host::recordings::runs::{list_snapshots, RUNS};
 use alvs_host::recordings::snapshot::{
     find_marker, path_pixels, Mask, Rgb8, MARKER_BLUE, PATH_GREEN, SNAPSHOT_SIZE,
 };
-use alvs_host::recordings::stats::{ks_critical, ks_distance, structure};
+use alvs_host::recordings::stats::structure;
 use alvs_host::recordings::track::{Extractor, LINE_WIDTH_PX};
 use alvs_host::recordings::{self, compare, track_from_trail, Drawing, PathStats};
 

@@ -995,7 +995,7 @@ fn run_recordings(cmd: RecordingsCmd) -> Result<()> {
                 let path = out.join(format!("{name}.json"));
                 std::fs::write(&path, json + "\n")
                     .with_context(|| format!("{}", path.display()))?;
-                println!("wrote {}", path.display());
+                writeln!(std::io::stdout(), "wrote {}", path.display())?;
                 Ok(())
             };
             write("arena", serde_json::to_string_pretty(&got.arena)?)?;
@@ -1008,11 +1008,14 @@ fn run_recordings(cmd: RecordingsCmd) -> Result<()> {
             let arena = recordings::arena()?;
             let runs = recordings::all_runs()?;
             let stats: Vec<_> = runs.iter().map(|r| (r, r.stats(&arena))).collect();
+            // write! rather than print!: a closed pipe (`| head`) is an error main lets pass,
+            // not a panic.
+            let mut stdout = std::io::stdout().lock();
             if json {
                 let named: Vec<_> = stats.iter().map(|(r, s)| (&r.run, s)).collect();
-                println!("{}", serde_json::to_string_pretty(&named)?);
+                writeln!(stdout, "{}", serde_json::to_string_pretty(&named)?)?;
             } else {
-                print!("{}", recordings::report::table(&stats));
+                write!(stdout, "{}", recordings::report::table(&stats))?;
             }
             if let Some(dir) = png {
                 std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;

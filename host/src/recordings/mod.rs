@@ -11,7 +11,8 @@
 //! | the seven runs, snapshot folders, tracker fps | [`runs`] |
 //! | Hough extraction of straight runs | [`segments`] |
 //! | tracks; simulated trails drawn like a recording | [`track`] |
-//! | path statistics and the real-vs-simulated comparison | [`stats`] |
+//! | path statistics: wall shares, turns, straight runs, coverage, speed | [`stats`] |
+//! | real against simulated: KS and ±20 % tolerances, pass/fail | [`compare`] |
 //! | the whole extraction and its provenance | [`extract`] |
 //! | pictures and the table of `recordings stats` | [`report`] |
 //!
@@ -19,6 +20,7 @@
 //! [`run`] / [`all_runs`] load it.
 
 pub mod calibration;
+pub mod compare;
 pub mod extract;
 pub mod geometry;
 pub mod report;
@@ -31,8 +33,9 @@ pub mod track;
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
+pub use compare::{compare, Verdict};
 pub use extract::{Provenance, RunFile};
-pub use stats::{compare, PathStats, Verdict};
+pub use stats::PathStats;
 pub use track::{track_from_trail, Drawing, Segment, SnapshotFix, Track};
 
 /// An obstacle cylinder, floor mm (arena frame: origin top-left, x right, y down).
