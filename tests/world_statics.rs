@@ -4,7 +4,7 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test world_statics`.
 
-use alvs_host::arena::kinematics::PHYSICS_DT_S;
+use alvs_host::arena::kinematics::{PHYSICS_DT_S, TRACK_MM};
 use alvs_host::arena::render::{column_of_bearing, row_of_height, CAMERA_FORWARD_MM, SKY_GREY};
 use alvs_host::arena::world::ROBOT_RADIUS_MM;
 use alvs_host::arena::{
@@ -18,6 +18,14 @@ fn world_with(obstacles: Vec<Obstacle>, contact: SurfaceContact) -> World {
         obstacles,
         contact,
         ..World::default()
+    }
+}
+
+/// The default contact without the wheels' slip: the friction turn alone, deterministic.
+fn turn_only() -> SurfaceContact {
+    SurfaceContact {
+        slip_yaw: 0.0,
+        ..SurfaceContact::default()
     }
 }
 
@@ -39,10 +47,7 @@ fn run_s(p: &mut Physics, seconds: f64) {
 #[test]
 fn a_wall_turns_a_body_that_slides_along_it() {
     let start = Pose::new(1100.0, 450.0, 10.0);
-    for (contact, turned) in [
-        (SurfaceContact::RIGID, false),
-        (SurfaceContact::default(), true),
-    ] {
+    for (contact, turned) in [(SurfaceContact::RIGID, false), (turn_only(), true)] {
         let w = world_with(Vec::new(), contact);
         let mut p = physics(&w, start);
         p.set_wheels(0, 100.0, 100.0);
@@ -71,7 +76,7 @@ fn a_wall_turns_a_body_that_slides_along_it() {
 /// away from the wall it turns nothing either.
 #[test]
 fn square_on_and_facing_away_do_not_turn() {
-    let w = world_with(Vec::new(), SurfaceContact::default());
+    let w = world_with(Vec::new(), turn_only());
     let mut p = physics(&w, Pose::new(1100.0, 450.0, 0.0));
     p.set_wheels(0, 100.0, 100.0);
     run_s(&mut p, 3.0);
@@ -93,6 +98,54 @@ fn the_gyro_senses_a_contact_turn() {
     assert!((truth - 90.0).abs() < 1.0, "turned parallel: {truth}");
     let sensed = p.gyro(0).heading();
     assert!((sensed - truth).abs() < 1e-6, "gyro {sensed} vs {truth}");
+}
+
+/// A body whose wheels push it square on into a wall rattles: the wheels' unequal slip turns
+/// it at random, about `slip_yaw · blocked travel / track` per step, so its view does not
+/// freeze; without slip, or with the wheels stopped, it stays exactly still.
+#[test]
+fn wheels_pushing_into_a_wall_rattle_the_body() {
+    let pushing = |contact: SurfaceContact, wheels: f64| {
+        let w = world_with(Vec::new(), contact);
+        let mut p = physics(&w, Pose::new(1100.0, 450.0, 0.0));
+        p.set_wheels(0, wheels, wheels);
+        run_s(&mut p, 1.0);
+        let mut headings = Vec::new();
+        for _ in 0..30 {
+            run_s(&mut p, 1.0 / 30.0);
+            headings.push(p.poses()[0].heading_deg);
+        }
+        headings
+    };
+    let still = pushing(turn_only(), 100.0);
+    assert!(still.iter().all(|&h| h == 0.0), "{still:?}");
+    let rattle = SurfaceContact {
+        turn_gain: 0.0,
+        slip_yaw: 0.5,
+    };
+    let stopped = pushing(rattle, 0.0);
+    assert!(stopped.iter().all(|&h| h == 0.0), "{stopped:?}");
+    let h = pushing(rattle, 100.0);
+    // Square on, a physics step blocks 100 mm/s · dt; a random walk of that many steps.
+    let per_step_deg = (0.5 * 100.0 * PHYSICS_DT_S / TRACK_MM).to_degrees();
+    let steps_per_frame = (1.0 / 30.0 / PHYSICS_DT_S).round();
+    let frame_rms = per_step_deg * steps_per_frame.sqrt();
+    let moves: Vec<f64> = h.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    let mean_move = moves.iter().sum::<f64>() / moves.len() as f64;
+    assert!(
+        mean_move > 0.3 * frame_rms && mean_move < 3.0 * frame_rms,
+        "frame-to-frame turn {mean_move:.3}° vs random walk rms {frame_rms:.3}°"
+    );
+    // The gyro feels the rattle, as it feels every contact turn.
+    let w = world_with(Vec::new(), rattle);
+    let mut p = physics(&w, Pose::new(1150.0, 450.0, 0.0));
+    p.set_wheels(0, 100.0, 100.0);
+    run_s(&mut p, 2.0);
+    let (truth, sensed) = (p.poses()[0].heading_deg, p.gyro(0).heading());
+    assert!(
+        truth != 0.0 && (sensed - truth).abs() < 1e-6,
+        "{sensed} vs {truth}"
+    );
 }
 
 /// An obstacle is solid (the centre stays one radius outside it), and a robot near it counts
@@ -224,6 +277,33 @@ fn ribs_parse_and_alternate() {
     // 1 mm texels: a groove at u = 0 and 8, a rib at u = 4 and 12.
     assert!(row[0] < 110 && row[8] < 110, "{row:?}");
     assert!(row[4] > 190 && row[12] > 190, "{row:?}");
+}
+
+/// The replica is the measured arena: its size, wall and obstacle heights and the obstacles
+/// found in the snapshots agree with host/data/fu2019/arena.json.
+#[test]
+fn the_replica_matches_the_measured_arena() {
+    let m = alvs_host::recordings::arena().expect("committed arena.json");
+    let w = replica::world();
+    assert!((w.arena.size_x_mm - m.size_x_mm).abs() < 1.0);
+    assert!((w.arena.size_y_mm - m.size_y_mm).abs() < 1.0);
+    assert!((w.wall_height_mm - m.wall_height_mm).abs() < 1.0);
+    let h = m.obstacle_height_mm.expect("measured obstacle height");
+    assert_eq!(m.obstacles.len(), replica::MEASURED_OBSTACLES);
+    for (o, found) in w.obstacles.iter().zip(&m.obstacles) {
+        assert!((o.x_mm - found.x_mm).abs() < 1.0 && (o.y_mm - found.y_mm).abs() < 1.0);
+        assert!((2.0 * o.radius_mm - m.obstacle_diameter_mm).abs() < 1.0);
+        assert!((o.height_mm - h).abs() < 1.0);
+    }
+    // The two placed by symmetry stand where no measured one does.
+    for o in &w.obstacles[replica::MEASURED_OBSTACLES..] {
+        let nearest = m
+            .obstacles
+            .iter()
+            .map(|f| (o.x_mm - f.x_mm).hypot(o.y_mm - f.y_mm))
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest > 200.0, "{o:?} is {nearest} mm from a measured one");
+    }
 }
 
 /// The replica's obstacles stand inside the arena and leave room to drive between them.

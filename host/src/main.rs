@@ -150,6 +150,25 @@ struct ValidateArgs {
     /// Where the pictures go.
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     png: PathBuf,
+    /// Which recorded runs: all, the 10.9 cm/s calibration runs, or the held-out others.
+    #[arg(long, value_enum, default_value = "all")]
+    runs: RunsArg,
+    /// Override the world's wheel slip against walls and obstacles (`SurfaceContact::
+    /// slip_yaw`, a share of the blocked travel), to repeat its calibration (docs/world.md).
+    #[arg(long, value_name = "K")]
+    slip_yaw: Option<f64>,
+    /// Override the world's wall texture (a `--background` form, e.g. ribs:5.6:120:230), to
+    /// repeat the calibration of the walls' look (docs/world.md).
+    #[arg(long, value_name = "SPEC")]
+    walls: Option<String>,
+}
+
+/// Which recorded runs `validate` simulates.
+#[derive(Clone, Copy, ValueEnum)]
+enum RunsArg {
+    All,
+    Calibration,
+    HeldOut,
 }
 
 #[derive(Subcommand)]
@@ -813,10 +832,19 @@ impl Outputs<'_> {
 
 fn run_validate(a: ValidateArgs) -> Result<()> {
     use alvs_host::experiments::validate::{self, ValidateConfig};
-    let (world, world_label) = match a.world {
+    let (mut world, world_label) = match a.world {
         WorldChoice::Fu2019 => (alvs_host::arena::replica::world(), "fu2019"),
         WorldChoice::Lab => (alvs_host::arena::World::default(), "lab"),
     };
+    if let Some(k) = a.slip_yaw {
+        if !(k.is_finite() && k >= 0.0) {
+            anyhow::bail!("--slip-yaw {k}: must be a finite number >= 0");
+        }
+        world.contact.slip_yaw = k;
+    }
+    if let Some(spec) = &a.walls {
+        world.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
+    }
     let seeds = if a.seeds.is_empty() {
         vec![11, 12, 13]
     } else {
@@ -827,6 +855,11 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
         world_label: world_label.into(),
         seeds,
         jobs: a.jobs,
+        runs: match a.runs {
+            RunsArg::All => validate::RunSet::All,
+            RunsArg::Calibration => validate::RunSet::Calibration,
+            RunsArg::HeldOut => validate::RunSet::HeldOut,
+        },
     };
     let out = Outputs {
         png: &a.png,

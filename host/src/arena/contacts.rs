@@ -37,6 +37,8 @@
 //! and ends only when it rises above threshold + [`EPISODE_HYSTERESIS_MM`], so that bodies
 //! pressed together, or a robot hovering at a threshold, count once.
 
+use super::kinematics::TRACK_MM;
+use super::rng::Rng;
 use super::world::{
     static_distance, wrap_deg, Arena, Obstacle, Pose, ROBOT_DIAMETER_MM, ROBOT_RADIUS_MM,
 };
@@ -56,6 +58,9 @@ pub const ROBOT_ENCOUNTER_DISTANCE_MM: f64 = ENCOUNTER_GAP_MM + ROBOT_DIAMETER_M
 pub const WALL_ENCOUNTER_DISTANCE_MM: f64 = ENCOUNTER_GAP_MM + ROBOT_RADIUS_MM;
 /// An episode ends when the distance exceeds its threshold by more than this, mm.
 pub const EPISODE_HYSTERESIS_MM: f64 = 10.0;
+/// [`SurfaceContact::slip_yaw`] of the recorded arena: calibrated on the 10.9 cm/s recordings
+/// (docs/world.md, "Contact").
+pub const SLIP_YAW: f64 = 1.0;
 /// Relaxation passes of the overlap resolution per physics step.
 pub const RESOLVE_ITERATIONS: usize = 4;
 
@@ -69,28 +74,44 @@ pub struct SurfaceContact {
     /// the body swings round parallel to the surface). 0 = the body keeps its heading (a robot
     /// that drives straight into a wall stays there, seeing a frozen picture).
     pub turn_gain: f64,
+    /// Stick-slip of the wheels while the surface blocks the body: the travel the surface
+    /// blocks is lost in wheel slip, and the two wheels do not slip alike. Standard deviation
+    /// of the slip difference between the wheels as a share of the blocked travel; it turns
+    /// the body by `slip difference / wheel track` at random each physics step (the shell
+    /// rattles and the camera's view jitters while the wheels push). 0 = the wheels slip
+    /// alike and the pressed body stays still.
+    pub slip_yaw: f64,
 }
 
 impl SurfaceContact {
-    /// No turn: the body only slides (the simulator's contact model before the recorded arena).
-    pub const RIGID: SurfaceContact = SurfaceContact { turn_gain: 0.0 };
+    /// No turn, no rattle: the body only slides (the simulator's contact model before the
+    /// recorded arena).
+    pub const RIGID: SurfaceContact = SurfaceContact {
+        turn_gain: 0.0,
+        slip_yaw: 0.0,
+    };
 }
 
 impl Default for SurfaceContact {
     /// The friction coefficient of a plastic shell on a plastic wall, ≈ 0.5 (docs/world.md,
     /// "Contact").
     fn default() -> Self {
-        SurfaceContact { turn_gain: 0.5 }
+        SurfaceContact {
+            turn_gain: 0.5,
+            slip_yaw: SLIP_YAW,
+        }
     }
 }
 
 /// Pushes overlapping bodies apart and keeps them out of the walls and obstacles (see the
 /// module documentation); a body pushed out of a static surface also turns toward the
-/// surface's tangent by `contact.turn_gain · depth / radius` (never past the tangent).
+/// surface's tangent by `contact.turn_gain · depth / radius` (never past the tangent) and by
+/// its wheels' random slip (`contact.slip_yaw`, drawn from `rng`).
 pub fn resolve_overlaps(
     arena: &Arena,
     obstacles: &[Obstacle],
     contact: SurfaceContact,
+    rng: &mut Rng,
     poses: &mut [Pose],
 ) {
     let d2 = ROBOT_DIAMETER_MM * ROBOT_DIAMETER_MM;
@@ -119,7 +140,7 @@ pub fn resolve_overlaps(
             }
         }
         for p in poses.iter_mut() {
-            moved |= push_out_of_statics(arena, obstacles, contact, p);
+            moved |= push_out_of_statics(arena, obstacles, contact, rng, p);
         }
         if !moved {
             break;
@@ -133,6 +154,7 @@ fn push_out_of_statics(
     arena: &Arena,
     obstacles: &[Obstacle],
     contact: SurfaceContact,
+    rng: &mut Rng,
     p: &mut Pose,
 ) -> bool {
     let r = ROBOT_RADIUS_MM;
@@ -144,6 +166,7 @@ fn push_out_of_statics(
     let (dx, dy) = (x - p.x_mm, y - p.y_mm);
     p.x_mm = x;
     p.y_mm = y;
+    let mut blocked = dx.abs() + dy.abs();
     if dx != 0.0 {
         turn_along(p, dx.abs(), (dx.signum(), 0.0), contact);
     }
@@ -164,8 +187,13 @@ fn push_out_of_statics(
             p.x_mm += depth * n.0;
             p.y_mm += depth * n.1;
             turn_along(p, depth, n, contact);
+            blocked += depth;
             moved = true;
         }
+    }
+    if contact.slip_yaw > 0.0 && blocked > 0.0 {
+        let slip_mm = f64::from(rng.normal()) * contact.slip_yaw * blocked;
+        p.heading_deg = wrap_deg(p.heading_deg + (slip_mm / TRACK_MM).to_degrees());
     }
     moved
 }

@@ -17,6 +17,9 @@ use super::kinematics::{advance, body_rates, Drive, MotorParams, PHYSICS_DT_S, P
 use super::rng::Rng;
 use super::world::{wrap_deg, Arena, Obstacle, Pose, World};
 
+/// Stream of the contacts' noise, forked from the seed (robots use 0, 1, 2, ...).
+const CONTACT_STREAM: u64 = 0xC0_47AC7;
+
 /// Robots in an arena, their motors, gyros and contacts.
 #[derive(Debug, Clone)]
 pub struct Physics {
@@ -24,6 +27,8 @@ pub struct Physics {
     obstacles: Vec<Obstacle>,
     contact: SurfaceContact,
     rng: Rng,
+    /// The contacts' own stream (wheel slip against walls and obstacles).
+    contact_rng: Rng,
     poses: Vec<Pose>,
     drives: Vec<Drive>,
     gyros: Vec<SimGyro>,
@@ -43,6 +48,7 @@ impl Physics {
             obstacles: Vec::new(),
             contact: SurfaceContact::RIGID,
             rng: Rng::new(seed),
+            contact_rng: Rng::new(seed).fork(CONTACT_STREAM),
             poses: Vec::new(),
             drives: Vec::new(),
             gyros: Vec::new(),
@@ -158,7 +164,13 @@ impl Physics {
         self.steps += 1;
         self.contacts
             .observe(self.time_s(), &self.arena, &self.obstacles, &self.poses);
-        resolve_overlaps(&self.arena, &self.obstacles, self.contact, &mut self.poses);
+        resolve_overlaps(
+            &self.arena,
+            &self.obstacles,
+            self.contact,
+            &mut self.contact_rng,
+            &mut self.poses,
+        );
         for ((gyro, &(omega, before)), pose) in
             self.gyros.iter_mut().zip(&self.turning).zip(&self.poses)
         {

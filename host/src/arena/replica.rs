@@ -28,34 +28,40 @@ pub const FLOOR: FloorShade = FloorShade {
     near_grey: 60.0,
     far_grey: 80.0,
 };
-/// Radius of the cylinder obstacles, mm.
+/// Radius of the cylinder obstacles, mm (measured diameter 46.1 mm).
 pub const OBSTACLE_RADIUS_MM: f64 = 23.0;
-/// Height of the cylinder obstacles, mm.
-pub const OBSTACLE_HEIGHT_MM: f64 = 50.0;
+/// Height of the cylinder obstacles, mm (measured 52.7 mm).
+pub const OBSTACLE_HEIGHT_MM: f64 = 53.0;
 /// The obstacles' sides: the walls' ribs around a cylinder (circumference / period pairs).
 pub const OBSTACLE_PATTERN: RobotPattern = RobotPattern::Stripes {
     count: 26,
     dark: 170,
     light: 230,
 };
-/// Centres of the obstacles, mm.
+/// Centres of the obstacles, mm: the 13 found in the snapshots (host/data/fu2019/arena.json,
+/// rounded), then the two hidden under the tracker's drawings, placed by the arena's
+/// regularity: the top-right corner mirrors the top-left one, and the bottom row's fourth sits
+/// as far left of the top row's fourth as the bottom row's second and third do of theirs
+/// (45 mm), at the bottom row's mean `y`.
 pub const OBSTACLES_MM: [(f64, f64); 15] = [
-    (25.0, 25.0),
-    (369.0, 22.0),
-    (651.0, 15.0),
-    (951.0, 20.0),
-    (1285.0, 25.0),
-    (15.0, 363.0),
-    (1295.0, 384.0),
-    (323.0, 410.0),
+    (23.0, 363.0),
+    (23.0, 29.0),
+    (369.0, 24.0),
     (623.0, 375.0),
+    (651.0, 23.0),
     (926.0, 361.0),
-    (25.0, 726.0),
+    (951.0, 22.0),
+    (23.0, 723.0),
     (318.0, 729.0),
-    (611.0, 735.0),
-    (900.0, 735.0),
-    (1285.0, 726.0),
+    (323.0, 410.0),
+    (611.0, 728.0),
+    (1286.0, 723.0),
+    (1287.0, 384.0),
+    (1286.0, 29.0),
+    (906.0, 726.0),
 ];
+/// How many of [`OBSTACLES_MM`] were measured (the rest are placed by symmetry).
+pub const MEASURED_OBSTACLES: usize = 13;
 
 /// The recorded arena as a simulated world.
 pub fn world() -> World {

@@ -35,6 +35,37 @@ pub struct ValidateConfig {
     pub seeds: Vec<u64>,
     /// Worker threads (0 = all cores).
     pub jobs: usize,
+    /// Which recorded runs to simulate.
+    pub runs: RunSet,
+}
+
+/// A choice of recorded runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RunSet {
+    /// All of them.
+    #[default]
+    All,
+    /// The 10.9 cm/s runs, which the world may be calibrated on.
+    Calibration,
+    /// The others.
+    HeldOut,
+}
+
+impl RunSet {
+    /// Whether a run at `speed_cm_s` belongs to the set.
+    pub fn holds(self, speed_cm_s: f64) -> bool {
+        let calibration = is_calibration(speed_cm_s);
+        match self {
+            RunSet::All => true,
+            RunSet::Calibration => calibration,
+            RunSet::HeldOut => !calibration,
+        }
+    }
+}
+
+/// Whether a run at `speed_cm_s` is a calibration run.
+pub fn is_calibration(speed_cm_s: f64) -> bool {
+    (speed_cm_s - CALIBRATION_SPEED_CM_S).abs() < 1e-9
 }
 
 /// One simulated run of a recorded run.
@@ -88,7 +119,10 @@ pub struct ValidateReport {
 /// Runs every recorded run's simulations; `progress` is told of each finished simulation.
 pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result<ValidateReport> {
     let arena = recordings::arena()?;
-    let runs = recordings::all_runs()?;
+    let runs: Vec<RunFile> = recordings::all_runs()?
+        .into_iter()
+        .filter(|r| config.runs.holds(r.speed_cm_s))
+        .collect();
     let plan: Vec<(usize, u64)> = (0..runs.len())
         .flat_map(|r| config.seeds.iter().map(move |&s| (r, s)))
         .collect();
@@ -127,7 +161,7 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
             RunComparison {
                 run: run.run.clone(),
                 speed_cm_s: run.speed_cm_s,
-                calibration: (run.speed_cm_s - CALIBRATION_SPEED_CM_S).abs() < 1e-9,
+                calibration: is_calibration(run.speed_cm_s),
                 cruise_mm_s: real.mean_speed_mm_s,
                 real,
                 sims,
