@@ -329,3 +329,46 @@ fn the_replica_is_a_drivable_arena() {
     }
     assert!(free > n * n * 8 / 10, "{free} of {}", n * n);
 }
+
+/// A shaking camera's picture moves up and down from frame to frame while its body moves (the
+/// wall's top edge changes row), never while it stands; without shake a moving camera's
+/// picture of the same pose is the steady one.
+#[test]
+fn a_moving_camera_shakes_and_a_standing_one_does_not() {
+    use alvs_host::arena::{Camera, SensorNoise};
+    let w = World::default();
+    let r = Renderer::new(&w);
+    let (from, to) = (
+        [Pose::new(600.0, 450.0, 0.0)],
+        [Pose::new(600.5, 450.0, 0.0)],
+    );
+    let shaky = SensorNoise {
+        shake_deg: 1.0,
+        ..SensorNoise::default()
+    };
+    let column = |f: &[u8]| {
+        (0..alvs_tasks::HEIGHT)
+            .map(|y| f[y * WIDTH + 49])
+            .collect::<Vec<_>>()
+    };
+    let shots = |noise: SensorNoise, from: &[Pose], to: &[Pose]| {
+        let mut cam = Camera::new(noise, 3);
+        (0..8)
+            .map(|_| {
+                let mut f = [0u8; alvs_tasks::PIXELS];
+                cam.capture_moving(&r, from, to, 0, &mut f);
+                column(&f)
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut steady = [0u8; alvs_tasks::PIXELS];
+    Camera::ideal().capture(&r, &to, 0, &mut steady);
+    let steady = column(&steady);
+    assert!(shots(SensorNoise::default(), &from, &to)
+        .iter()
+        .all(|c| *c == steady));
+    assert!(shots(shaky, &to, &to).iter().all(|c| *c == steady));
+    let moving = shots(shaky, &from, &to);
+    let differing = moving.iter().filter(|c| **c != steady).count();
+    assert!(differing >= 6, "{differing} of 8 shaken frames differ");
+}

@@ -124,6 +124,13 @@ pub struct SensorNoise {
     /// (`docs/experiments.md`, "Camera exposure"); 0 keeps the snapshots every figure was
     /// measured with.
     pub exposure: f32,
+    /// Standard deviation of the camera's pitch jitter while its body moves, degrees (one
+    /// independent draw per frame): a 4 cm robot rocks on its axle and caster as its
+    /// gearmotors drive it over the floor, and a body pressed against a wall rattles. The
+    /// picture shifts vertically by `FOCAL_PX · tan δ` rows (the small-angle image of a
+    /// pitch). A body that neither moved nor turned over the frame does not shake. 0 = a
+    /// rigidly steady camera.
+    pub shake_deg: f32,
 }
 
 /// Views averaged over an exposure (see [`SensorNoise::exposure`]): at a 360°/s turn a
@@ -138,6 +145,7 @@ impl SensorNoise {
             pixel_sigma: 2.0,
             gain_sigma: 0.02,
             exposure: 0.0,
+            shake_deg: 0.0,
         }
     }
 }
@@ -212,6 +220,8 @@ pub struct Camera {
     light: Vec<f32>,
     /// The bodies at one instant of the exposure.
     poses: Vec<Pose>,
+    /// The light shifted by the shake.
+    shaken: Vec<f32>,
 }
 
 impl Camera {
@@ -224,6 +234,7 @@ impl Camera {
             hits: Vec::new(),
             light: vec![0.0; PIXELS],
             poses: Vec::new(),
+            shaken: vec![0.0; PIXELS],
         }
     }
 
@@ -297,7 +308,33 @@ impl Camera {
                 1.0 / instants as f32,
             );
         }
-        Renderer::sensor(&self.light, gain, noise.map(|s| (s, &mut self.rng)), frame);
+        let moved = before
+            .get(viewer)
+            .zip(bodies.get(viewer))
+            .is_some_and(|(a, b)| a != b);
+        let light = if self.noise.shake_deg > 0.0 && moved {
+            let pitch = f64::from(self.noise.shake_deg * self.rng.normal()).to_radians();
+            shift_rows(&self.light, FOCAL_PX * pitch.tan(), &mut self.shaken);
+            &self.shaken
+        } else {
+            &self.light
+        };
+        Renderer::sensor(light, gain, noise.map(|s| (s, &mut self.rng)), frame);
+    }
+}
+
+/// `light` moved down by `rows` (negative: up; fractional rows interpolated linearly, the
+/// edge rows repeated beyond the picture) into `out`: the image of a small camera pitch.
+fn shift_rows(light: &[f32], rows: f64, out: &mut [f32]) {
+    let last = HEIGHT as f64 - 1.0;
+    for y in 0..HEIGHT {
+        let src = (y as f64 - rows).clamp(0.0, last);
+        let (y0, t) = (src.floor() as usize, (src - src.floor()) as f32);
+        let y1 = (y0 + 1).min(HEIGHT - 1);
+        let (a, b) = (&light[y0 * WIDTH..][..WIDTH], &light[y1 * WIDTH..][..WIDTH]);
+        for ((o, &p), &q) in out[y * WIDTH..][..WIDTH].iter_mut().zip(a).zip(b) {
+            *o = p + (q - p) * t;
+        }
     }
 }
 

@@ -37,6 +37,8 @@ pub struct ValidateConfig {
     pub jobs: usize,
     /// Which recorded runs to simulate.
     pub runs: RunSet,
+    /// The simulated robot's camera: exposure and shake.
+    pub camera: sim::CameraChoice,
 }
 
 /// A choice of recorded runs.
@@ -131,7 +133,13 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
         let run = &runs[r];
         let real = run.stats(&arena);
         let cruise = real.mean_speed_mm_s;
-        let out = sim::simulate(&config.world, cruise as f32, real.duration_s, seed);
+        let out = sim::simulate(
+            &config.world,
+            cruise as f32,
+            real.duration_s,
+            seed,
+            config.camera,
+        );
         let track = track_from_trail(&out.trail, &arena.drawing(run.snapshot_every_s()));
         let stats = PathStats::of(&track, arena.size());
         let verdicts = compare(&real, &stats);

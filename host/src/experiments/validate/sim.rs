@@ -12,6 +12,15 @@ pub const PRESSED_GAP_MM: f64 = 5.0;
 /// Clearance of a start pose from every wall and obstacle, mm.
 pub const START_CLEARANCE_MM: f64 = 100.0;
 
+/// How the simulated robot's camera differs from [`crate::arena::SensorNoise::typical`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CameraChoice {
+    /// [`crate::arena::SensorNoise::exposure`].
+    pub exposure: f32,
+    /// [`crate::arena::SensorNoise::shake_deg`].
+    pub shake_deg: f32,
+}
+
 /// What one simulated run gives the statistics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimRun {
@@ -39,13 +48,22 @@ pub fn start_pose(world: &World, seed: u64) -> Pose {
 }
 
 /// Runs one LGMD2 robot (the paper's baseline, its published parameters) for `seconds` at
-/// `speed_mm_s` in `world`, with realistic motor, gyro and camera noise.
-pub fn simulate(world: &World, speed_mm_s: f32, seconds: f64, seed: u64) -> SimRun {
+/// `speed_mm_s` in `world`, with realistic motor, gyro and camera noise, the camera exposing
+/// for `exposure` of the frame period ([`crate::arena::SensorNoise::exposure`]).
+pub fn simulate(
+    world: &World,
+    speed_mm_s: f32,
+    seconds: f64,
+    seed: u64,
+    camera: CameraChoice,
+) -> SimRun {
     let fsm = FsmParams {
         cruise_mm_s: speed_mm_s,
         ..FsmParams::PAPER
     };
-    let (motor, gyro, noise) = crate::arena::robot_noise(true);
+    let (motor, gyro, mut noise) = crate::arena::robot_noise(true);
+    noise.exposure = camera.exposure;
+    noise.shake_deg = camera.shake_deg;
     let mut sim = Sim::new(world, seed);
     let controller_seed = Rng::new(seed).fork(0x1a9d).next_u64();
     sim.add(

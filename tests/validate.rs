@@ -1,0 +1,54 @@
+//! The calibrated contact of the recorded arena's replica (docs/world.md, "Calibration"): an
+//! LGMD2 robot that reaches a wall or an obstacle gets away again, as the real one always
+//! does, because its wheels' slip rattles its view; with the wheels slipping alike (the model
+//! before the calibration) it stays pressed, seeing a frozen picture.
+//!
+//! `cargo test --target host-tuple -p alvs-host --test validate`.
+
+use alvs_host::arena::{replica, SurfaceContact, World};
+use alvs_host::experiments::validate::sim::{simulate, CameraChoice};
+
+fn replica_with_slip(slip_yaw: f64) -> World {
+    let w = replica::world();
+    World {
+        contact: SurfaceContact {
+            slip_yaw,
+            ..w.contact
+        },
+        ..w
+    }
+}
+
+/// Two simulated minutes at the 10.9 cm/s runs' mean path speed, seeds 1–3 (tuning seeds).
+#[test]
+fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
+    for seed in 1..=3 {
+        let calibrated = simulate(
+            &replica::world(),
+            140.0,
+            120.0,
+            seed,
+            CameraChoice::default(),
+        );
+        let frozen = simulate(
+            &replica_with_slip(0.0),
+            140.0,
+            120.0,
+            seed,
+            CameraChoice::default(),
+        );
+        let per_min = |alerts: u64| alerts as f64 / 2.0;
+        assert!(
+            calibrated.pressed_share < 0.6 && per_min(calibrated.alerts) > 8.0,
+            "seed {seed}: calibrated pressed {:.2}, {:.1} alerts/min",
+            calibrated.pressed_share,
+            per_min(calibrated.alerts)
+        );
+        assert!(
+            frozen.pressed_share > 0.7 && frozen.pressed_share > calibrated.pressed_share + 0.2,
+            "seed {seed}: without slip pressed {:.2} (calibrated {:.2})",
+            frozen.pressed_share,
+            calibrated.pressed_share
+        );
+    }
+}
