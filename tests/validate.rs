@@ -52,3 +52,20 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
         );
     }
 }
+
+/// Driving straight at the replica's ribbed wall at the fastest run's speed, the LGMD2 alerts
+/// before touching in most approaches, at gaps like the real robot's turns (38–77 mm median
+/// gap, centre to wall minus one radius, over the seven runs).
+#[test]
+fn straight_approaches_alert_at_the_real_turns_distances() {
+    use alvs_host::experiments::validate::approach::approaches;
+    let row = &approaches(&replica::world(), &[159.0])[0];
+    assert!(
+        row.alerted * 3 >= row.approaches * 2,
+        "{} of {}",
+        row.alerted,
+        row.approaches
+    );
+    let gap = row.median_gap_mm.expect("some alerted");
+    assert!((38.0..=77.0).contains(&gap), "median gap {gap} mm");
+}

@@ -168,6 +168,10 @@ struct ValidateArgs {
     /// (`SensorNoise::shake_deg`).
     #[arg(long, value_name = "DEG", default_value_t = 0.0)]
     shake_deg: f32,
+    /// Instead of the runs: straight open-loop approaches to the wall at the recordings' mean
+    /// speeds, and where the LGMD2 first alerts (docs/world.md, "What is left").
+    #[arg(long)]
+    approaches: bool,
 }
 
 /// Which recorded runs `validate` simulates.
@@ -851,6 +855,25 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
     }
     if let Some(spec) = &a.walls {
         world.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
+    }
+    if a.approaches {
+        use alvs_host::experiments::validate::approach;
+        let arena = alvs_host::recordings::arena()?;
+        let runs = alvs_host::recordings::all_runs()?;
+        let speeds: Vec<f64> = runs
+            .iter()
+            .map(|r| r.stats(&arena).mean_speed_mm_s.round())
+            .collect();
+        println!("| run | speed mm/s | approaches | alerted before touching | median gap at the alert (mm) |");
+        println!("|---|---|---|---|---|");
+        for (run, r) in runs.iter().zip(approach::approaches(&world, &speeds)) {
+            let gap = r.median_gap_mm.map_or("-".into(), |g| format!("{g:.0}"));
+            println!(
+                "| {} | {:.0} | {} | {} | {gap} |",
+                run.run, r.speed_mm_s, r.approaches, r.alerted
+            );
+        }
+        return Ok(());
     }
     let seeds = if a.seeds.is_empty() {
         vec![11, 12, 13]

@@ -541,7 +541,7 @@ mod tests {
             Pose::new(100.0, 100.0, 0.0),
             Pose::new(5.0, 250.0, 0.0),
         ];
-        resolve_overlaps(&arena, &[], SurfaceContact::RIGID, &mut p);
+        resolve_overlaps(&arena, &[], SurfaceContact::RIGID, &mut Rng::new(1), &mut p);
         assert!((p[0].distance_to(&p[1]) - 42.0).abs() < 1e-9);
         assert!(p[0].x_mm < p[1].x_mm);
         assert_eq!((p[2].x_mm, p[2].y_mm), (21.0, 179.0));

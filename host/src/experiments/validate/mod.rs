@@ -8,6 +8,7 @@
 //! are held out. The robot's cruise speed is the run's measured mean path speed (the folder
 //! names' speeds disagree with the tracked paths; docs/recordings.md).
 
+pub mod approach;
 pub mod sim;
 
 use std::path::{Path, PathBuf};
