@@ -15,6 +15,7 @@ use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod log_command;
 mod shards;
 
 #[derive(Parser)]
@@ -120,6 +121,12 @@ enum Cmd {
     /// refused. A merged `stimuli` draws its tracks pictures only: the layer pictures replay
     /// camera frames the shard files do not carry.
     Merge(shards::MergeArgs),
+    /// Read back a saved RTT session of the firmware (what Embed.toml's `log_enabled` makes
+    /// `cargo embed` write, or a tab's text piped in) and summarise it: frames, drops, cycles
+    /// per frame against the 33 ms period, time per FSM state, alerts, attention fields, each
+    /// boot and what reset it, the boot self-test's `bench:` cycles next to the cycle model's
+    /// for this build, and every line that could not be read (docs/log.md).
+    Log(log_command::LogArgs),
 }
 
 /// The simulated worlds `validate` can drive in.
@@ -699,6 +706,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
+        Cmd::Log(a) => log_command::run(a, cycles_bin),
     }
 }
 
