@@ -29,11 +29,19 @@ fn ratio(r: Option<f64>) -> String {
 }
 
 fn bench_table(f: &mut Formatter<'_>, b: &Bench, model: &str) -> fmt::Result {
-    writeln!(
-        f,
-        "boot self-test (bench: lines of boot {}) against {model}:",
-        b.boot
-    )?;
+    if b.rows.iter().any(|r| r.pessimistic.is_some()) {
+        writeln!(
+            f,
+            "boot self-test (bench: lines of boot {}) against {model}:",
+            b.boot
+        )?;
+    } else {
+        writeln!(
+            f,
+            "boot self-test (bench: lines of boot {}); the cycle model: {model}",
+            b.boot
+        )?;
+    }
     writeln!(
         f,
         "  frame  stage          board    nominal  pessimistic  board/nominal  board/pessimistic"
@@ -197,13 +205,6 @@ impl Display for LogReport {
         match &self.bench {
             Some(b) => bench_table(f, b, &self.model)?,
             None => writeln!(f, "boot self-test: no bench: lines in the log")?,
-        }
-        if self
-            .bench
-            .as_ref()
-            .is_some_and(|b| b.rows.iter().all(|r| r.pessimistic.is_none()))
-        {
-            writeln!(f, "  (no model: {})", self.model)?;
         }
         if let Some(w) = &self.worst_case {
             writeln!(
