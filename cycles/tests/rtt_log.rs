@@ -224,3 +224,23 @@ fn a_fault_and_its_watchdog_reset_are_a_second_boot() {
     // the second boot's self-test is the first's
     assert!(r.bench.as_ref().unwrap().other_boots.is_empty());
 }
+
+#[test]
+fn the_budget_tools_boot_json_is_what_the_log_reader_reads() {
+    let Some(elf) = firmware() else { return };
+    let out = Command::new(env!("CARGO_BIN_EXE_alvs-budget"))
+        .args(["--boot", "--json"])
+        .output()
+        .expect("alvs-budget runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let p = Prediction::from_json(&String::from_utf8_lossy(&out.stdout)).expect("it reads");
+    let expected = prediction(&elf);
+    assert_eq!((&p.stages, &p.frames), (&expected.stages, &expected.frames));
+    let worst = p.worst_case.expect("docs/budget.md documents a worst case");
+    assert_eq!(worst.source, "docs/budget.md");
+    assert!(worst.nominal < worst.pessimistic);
+}
