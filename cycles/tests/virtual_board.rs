@@ -351,6 +351,29 @@ fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
         stderr.contains("7133 bytes is not a whole number of 99x72 Y8 frames (7128 bytes each)"),
         "{stderr}"
     );
+
+    // relative paths are the caller's, and a missing clip is one line
+    let clips = root().join(CLIPS_DIR);
+    let run_in = |dir: &Path, clip: &str| {
+        std::process::Command::new(exe)
+            .args(["--clip", clip, "--seconds", "0.3", "--telemetry", "0"])
+            .current_dir(dir)
+            .output()
+            .expect("runs")
+    };
+    let out = run_in(&clips, "test_grating.y8");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = run_in(&clips, "tests/data/clips/test_grating.y8");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "not the workspace's path");
+    assert_eq!(
+        stderr.trim_end(),
+        "alvs-virtual: --clip tests/data/clips/test_grating.y8: No such file or directory (os error 2)"
+    );
 }
 
 #[test]

@@ -23,9 +23,9 @@ struct Args {
     /// stack peak.
     #[arg(long)]
     json: bool,
-    /// Folder of `.y8` clips (relative paths are taken from the workspace root).
-    #[arg(long, value_name = "DIR", default_value = CLIPS_DIR)]
-    clips: PathBuf,
+    /// Folder of `.y8` clips (default: the workspace's tests/data/clips).
+    #[arg(long, value_name = "DIR")]
+    clips: Option<PathBuf>,
     /// Run every clip of the folder (minutes), not only the CI gate's busiest four.
     #[arg(long)]
     all_clips: bool,
@@ -77,11 +77,7 @@ fn run(a: Args) -> Result<(), String> {
     let mut bench = Bench::new(&elf).map_err(|e| e.to_string())?;
     let ram = bench.machine().ram_report().clone();
     let mut scenes = worst_cases();
-    let dir = if a.clips.is_relative() {
-        root.join(&a.clips)
-    } else {
-        a.clips.clone()
-    };
+    let dir = a.clips.clone().unwrap_or_else(|| root.join(CLIPS_DIR));
     let only: Option<&[&str]> = if a.all_clips { None } else { Some(&GATE_CLIPS) };
     scenes.extend(clips(&dir, only)?);
     if let Some(name) = &a.profile {
