@@ -1,7 +1,9 @@
 //! The logical lines of a saved RTT channel: cargo-embed's time stamps removed, the empty line
 //! it writes after each piece a poll read dropped, and a line that a poll (or a terminal's
 //! wrapping, when a tab's text is pasted) cut in two joined again
-//! (`alvs_cycles::system::embed_log` describes the file format).
+//! (`alvs_cycles::system::embed_log` describes the file format). The output of `probe-rs run`
+//! (`cargo run --release`) reads too: it puts the channel's name, `[log      ] ` or
+//! `[telemetry] `, before each piece it prints, and the same time stamps.
 
 use super::entry::Entry;
 
@@ -34,17 +36,27 @@ pub fn unstamped(line: &str) -> Option<&str> {
     stamped.then(|| &line[14..])
 }
 
+/// The text after `probe-rs run`'s channel name (`[log      ] `, `[telemetry] `: the firmware's
+/// up channels, padded to the longer name), if the line has one.
+pub fn unprefixed(line: &str) -> Option<&str> {
+    let (name, rest) = line.strip_prefix('[')?.split_once("] ")?;
+    ["log", "telemetry"]
+        .contains(&name.trim_end())
+        .then_some(rest)
+}
+
 /// The logical lines of source `source`'s text.
 ///
 /// A physical line continues the one before it (nothing but a line break between them) when
-/// the text is time-stamped and it has no stamp, cargo-embed's mark of a line a poll cut; in
-/// text without stamps, when the line before is not a line of the firmware's and the two
-/// together are. The join that reads as a known line wins: directly (a poll's cut) or with a
-/// space (a terminal's wrap).
+/// that one is not a whole line of the firmware's and, in time-stamped text, it has no stamp
+/// (cargo-embed's mark of a line a poll cut). The join that reads as a known line wins:
+/// directly (a poll's cut) or with a space (a terminal's wrap); in stamped text the pieces are
+/// joined in any case (and then counted as one line that does not read).
 pub fn logical(source: usize, text: &str) -> Vec<Line> {
     let physical: Vec<(&str, Option<&str>)> = text
         .split('\n')
         .map(|l| l.strip_suffix('\r').unwrap_or(l))
+        .map(|l| unprefixed(l).unwrap_or(l))
         .map(|l| (l, unstamped(l)))
         .collect();
     let stamped = physical.iter().any(|(_, s)| s.is_some());
@@ -57,11 +69,7 @@ pub fn logical(source: usize, text: &str) -> Vec<Line> {
         }
         let body = stripped.unwrap_or(raw);
         if let Some(prev) = out.last_mut().filter(|_| !after_break) {
-            let cut = if stamped {
-                stripped.is_none()
-            } else {
-                !Entry::of(&prev.text).is_known()
-            };
+            let cut = (!stamped || stripped.is_none()) && !Entry::of(&prev.text).is_known();
             if cut {
                 let direct = format!("{}{body}", prev.text);
                 let spaced = format!("{} {body}", prev.text);
@@ -130,6 +138,27 @@ mod tests {
             "10:00:00.001: F 1 st=wan\nGARBAGE\n\n10:00:00.002: let go\n",
         );
         assert_eq!(texts(&lines), ["F 1 st=wanGARBAGE", "let go"]);
+    }
+
+    #[test]
+    fn probe_rs_run_output_of_both_channels() {
+        // each piece after the channel's name; a channel's first line has no stamp
+        let text = format!(
+            "[log      ] alvs-firmware 0.1.0 on the Colias\n[telemetry] {REC}\n\
+             [log      ] 10:00:00.001: clocks: a\n10:00:00.001: let go\n[telemetry] 10:00:00.033: {REC}\n"
+        );
+        assert_eq!(
+            texts(&logical(0, &text)),
+            [
+                "alvs-firmware 0.1.0 on the Colias",
+                REC,
+                "clocks: a",
+                "let go",
+                REC
+            ]
+        );
+        assert_eq!(unprefixed("[other] x"), None);
+        assert_eq!(unprefixed("[telemetry] x"), Some("x"));
     }
 
     #[test]
