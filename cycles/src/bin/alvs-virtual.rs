@@ -61,9 +61,13 @@ struct Args {
     out: PathBuf,
     /// Also save the session's RTT channels into this folder exactly as `cargo embed` does with
     /// `log_enabled` (one file per tab, `alvs-firmware_STM32F427VITx_<unix ms>_channel<tab>.txt`),
-    /// for `cargo alvs log`.
+    /// for `cargo alvs log`; the probe then reads RTT as often as cargo-embed does (50 ms).
     #[arg(long, value_name = "DIR")]
     embed_log: Option<PathBuf>,
+    /// How often the virtual probe reads RTT, ms (default 1; 50, cargo-embed's, with
+    /// --embed-log). The firmware drops a line that does not fit its channel's buffer.
+    #[arg(long, value_name = "MS")]
+    rtt_poll_ms: Option<f64>,
     /// Instead of one run: dropped frames per second for each of these blanking fractions
     /// (comma-separated), at the given --lines.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -128,8 +132,25 @@ fn config(args: &Args, blanking: f64) -> Result<Config, String> {
             ..CameraTiming::default()
         },
         camera_present: !args.no_camera,
+        rtt_poll_cycles: cycles(rtt_poll_ms(args)? / 1e3).max(1),
         ..Config::default()
     })
+}
+
+/// cargo-embed reads RTT every 50 ms (`RTT_POLL_INTERVAL` in its `rttui/app.rs`).
+const EMBED_POLL_MS: f64 = 50.0;
+
+/// The virtual probe's RTT poll interval, ms.
+fn rtt_poll_ms(args: &Args) -> Result<f64, String> {
+    let default = if args.embed_log.is_some() {
+        EMBED_POLL_MS
+    } else {
+        1.0
+    };
+    match args.rtt_poll_ms.unwrap_or(default) {
+        ms if (0.01..=1000.0).contains(&ms) => Ok(ms),
+        ms => Err(format!("--rtt-poll-ms {ms}: must be in 0.01..=1000")),
+    }
 }
 
 fn board(elf: &[u8], frames: &[Vec<u8>], config: Config) -> Result<Board, String> {
