@@ -263,7 +263,7 @@ fn truncated_and_garbled_lines_are_counted_and_quoted() {
         "{summary}"
     );
     assert!(
-        summary.contains("_channel1.txt:123: \"F 60 st=escape S=0\" (malformed number in `S`)"),
+        summary.contains("channel1:123: \"F 60 st=escape S=0\" (malformed number in `S`)"),
         "{summary}"
     );
     let _ = std::fs::remove_dir_all(&d);

@@ -28,13 +28,18 @@ pub fn state_colour(s: State) -> Rgb {
 
 const X_LABEL: &str = "telemetry record (one per processed frame, 30 a second)";
 
-/// LPLC2 sum and alerts per record, the state as a band.
+/// LPLC2 sum and alerts per record, the state as a band, with a gap where the frame count
+/// restarts (a reset, or the model priming again after a fault).
 pub fn timeline(records: &[&Record]) -> Canvas {
     let sums: Vec<f32> = records.iter().map(|r| r.lplc2_sum as f32).collect();
     let alerts: Vec<usize> = (0..records.len()).filter(|&i| records[i].alert()).collect();
     let band: Vec<Option<Rgb>> = records
         .iter()
-        .map(|r| Some(state_colour(r.state)))
+        .enumerate()
+        .map(|(i, r)| {
+            let restart = i > 0 && r.frame <= records[i - 1].frame;
+            (!restart).then(|| state_colour(r.state))
+        })
         .collect();
     let legend: Vec<(&str, Rgb)> = State::ALL
         .iter()

@@ -14,10 +14,18 @@ fn short(text: &str, max: usize) -> String {
     }
 }
 
-/// `file:line` with the file's name only.
+/// A source's short name: `channel<N>` for a cargo-embed file, else the file's name.
+fn short_source(source: &str) -> &str {
+    let name = source.rsplit('/').next().unwrap_or(source);
+    name.rsplit_once('_')
+        .and_then(|(_, tab)| tab.strip_suffix(".txt"))
+        .filter(|tab| tab.starts_with("channel"))
+        .unwrap_or(name)
+}
+
+/// `source:line`, the source by its short name.
 fn place(q: &Quote) -> String {
-    let name = q.source.rsplit('/').next().unwrap_or(&q.source);
-    format!("{name}:{}", q.line)
+    format!("{}:{}", short_source(&q.source), q.line)
 }
 
 fn pct(x: f64) -> String {
@@ -105,11 +113,7 @@ impl Display for LogReport {
         writeln!(f, "{firmware}")?;
         for (i, b) in self.boots.iter().enumerate() {
             let start = match &b.version {
-                Some(_) => format!(
-                    "banner at {}:{}",
-                    b.source.rsplit('/').next().unwrap_or(""),
-                    b.line
-                ),
+                Some(_) => format!("banner at {}:{}", short_source(&b.source), b.line),
                 None => "no banner: the log starts after the boot".into(),
             };
             let camera = b
