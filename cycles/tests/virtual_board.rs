@@ -452,3 +452,43 @@ fn no_frame_is_dropped_when_vsync_follows_frame_complete_at_once() {
         frames
     );
 }
+
+/// `line` with every run of digits as `#`: the shape of a line, whatever the cycle counts.
+fn masked(line: &str) -> String {
+    let mut out = String::new();
+    for c in line.chars() {
+        if !c.is_ascii_digit() {
+            out.push(c);
+        } else if !out.ends_with('#') {
+            out.push('#');
+        }
+    }
+    out
+}
+
+#[test]
+fn the_bring_up_guide_shows_what_a_healthy_boot_prints() {
+    if firmware().is_none() {
+        return;
+    }
+    let doc = std::fs::read_to_string(root().join("docs/bringup.md")).expect("docs/bringup.md");
+    let start = doc
+        .find("<!-- boot-log:start -->\n```text\n")
+        .expect("start marker");
+    let end = doc.find("```\n<!-- boot-log:end -->").expect("end marker");
+    let shown = &doc[start + "<!-- boot-log:start -->\n```text\n".len()..end];
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_alvs-virtual"))
+        .args(["--seconds", "1.3", "--telemetry", "3"])
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let printed = &stdout[..stdout.find("── timing ──").expect("the timing report")];
+    let (shown, printed): (Vec<String>, Vec<String>) = (
+        shown.lines().map(masked).collect(),
+        printed.lines().map(masked).collect(),
+    );
+    assert_eq!(
+        shown, printed,
+        "docs/bringup.md's boot differs from `cargo alvs virtual --seconds 1.3 --telemetry 3`:\n{stdout}"
+    );
+}
