@@ -400,5 +400,14 @@ fn no_telemetry_or_no_log_is_one_line() {
     let folder = d.join("no-logs");
     std::fs::create_dir_all(&folder).unwrap();
     fails(&[folder.as_os_str()], "no cargo-embed log in this folder");
+    // no path: ./logs, which is not there
+    let out = alvs().arg("log").current_dir(&folder).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("no logs/ folder here: cargo embed saves its sessions there"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

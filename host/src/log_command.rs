@@ -30,6 +30,11 @@ pub struct LogArgs {
 pub fn run(a: LogArgs, cycles_bin: impl Fn(&str, &[String]) -> Command) -> Result<()> {
     let sources = if a.path.as_os_str() == "-" {
         vec![source::read_stdin()?]
+    } else if a.path.as_os_str() == "logs" && !a.path.exists() {
+        anyhow::bail!(
+            "no logs/ folder here: cargo embed saves its sessions there when Embed.toml sets \
+             log_enabled = true (docs/log.md); or give a log's path, or - for standard input"
+        );
     } else {
         source::read_files(&source::locate(&a.path)?)?
     };
