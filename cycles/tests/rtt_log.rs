@@ -4,29 +4,15 @@
 //! by the same run), and its boot self-test the cycle model's (the virtual board counts cycles
 //! with the pessimistic model).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-use alvs_cycles::budget::{build_firmware, self_test, BuildError, STAGE_NAMES};
+use alvs_cycles::budget::{self_test, STAGE_NAMES};
 use alvs_host::rtt_log::model::{PredictedFrame, Prediction};
 use alvs_host::rtt_log::{Log, LogReport};
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("root")
-}
-
-fn firmware() -> Option<Vec<u8>> {
-    match build_firmware(root()) {
-        Ok(path) => Some(std::fs::read(path).expect("firmware ELF")),
-        Err(BuildError::TargetMissing) => {
-            println!("SKIPPED: {}", BuildError::TargetMissing);
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
-}
+mod common;
+use common::{firmware, root};
 
 /// The board's counters of one run, from its timing report.
 #[derive(Debug)]

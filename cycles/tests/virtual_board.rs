@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use alvs_cycles::budget::{build_firmware, read_clip, BuildError, CLIPS_DIR};
+use alvs_cycles::budget::{read_clip, CLIPS_DIR};
 use alvs_cycles::system::closed_loop::BottomBoard;
 use alvs_cycles::system::{Board, Config, ResetCause};
 use alvs_cycles::CLOCK_HZ;
@@ -15,24 +15,10 @@ use alvs_tasks::robot::motor::{self, BoardModel};
 use alvs_tasks::robot::telemetry::Record;
 use alvs_tasks::{Frame, Network, PIXELS};
 
+mod common;
+use common::{firmware, root};
+
 const MS: u64 = CLOCK_HZ / 1000;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("root")
-}
-
-fn firmware() -> Option<Vec<u8>> {
-    match build_firmware(root()) {
-        Ok(path) => Some(std::fs::read(path).expect("firmware ELF")),
-        Err(BuildError::TargetMissing) => {
-            println!("SKIPPED: {}", BuildError::TargetMissing);
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
-}
 
 fn clip(name: &str) -> Vec<Vec<u8>> {
     let frames = read_clip(&root().join(CLIPS_DIR).join(name)).expect("clip");

@@ -133,7 +133,6 @@ fn config(args: &Args, blanking: f64) -> Result<Config, String> {
         },
         camera_present: !args.no_camera,
         rtt_poll_cycles: cycles(rtt_poll_ms(args)? / 1e3).max(1),
-        ..Config::default()
     })
 }
 

@@ -28,6 +28,15 @@ fn place(q: &Quote) -> String {
     format!("{}:{}", short_source(&q.source), q.line)
 }
 
+/// "s" after a count other than one.
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
 fn pct(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)
 }
@@ -97,7 +106,7 @@ impl Display for LogReport {
         let mut firmware = format!(
             "firmware: {} boot{} ({}), these tools {}",
             self.boots.len(),
-            if self.boots.len() == 1 { "" } else { "s" },
+            plural(self.boots.len()),
             versions.join(", "),
             self.tools_version
         );
@@ -148,7 +157,7 @@ impl Display for LogReport {
             "telemetry: {} records in {} run{} of frame numbers (a run restarts at a reset and after a fault), {} frame numbers missing",
             t.records,
             t.runs,
-            if t.runs == 1 { "" } else { "s" },
+            plural(t.runs),
             t.missing
         )?;
         match &t.cycles {
@@ -186,7 +195,7 @@ impl Display for LogReport {
             "alerts: {} frames in {} episode{}{}; the largest ΣLPLC2 {}",
             a.frames,
             a.episodes,
-            if a.episodes == 1 { "" } else { "s" },
+            plural(a.episodes),
             a.first_frame
                 .map_or_else(String::new, |fr| format!(", the first at frame {fr}")),
             a.max_lplc2_sum
@@ -227,12 +236,7 @@ impl Display for LogReport {
         }
         let s = &self.skipped;
         let kinds: Vec<String> = s.by_kind.iter().map(|(k, n)| format!("{n} {k}")).collect();
-        write!(
-            f,
-            "skipped: {} line{}",
-            s.lines,
-            if s.lines == 1 { "" } else { "s" }
-        )?;
+        write!(f, "skipped: {} line{}", s.lines, plural(s.lines))?;
         if kinds.is_empty() {
             writeln!(f)?;
         } else {
