@@ -7,6 +7,7 @@
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::robot::bench::{self, Report};
 use alvs_tasks::robot::control::Control;
+use alvs_tasks::robot::self_test::{self, BenchLine};
 use alvs_tasks::{Frame, Network, PIXELS};
 use cortex_m::peripheral::DWT;
 
@@ -66,49 +67,28 @@ pub unsafe extern "C" fn alvs_bench_step(
     *out = bench::step(network, control, frame, &mut DWT::cycle_count);
 }
 
-/// Full-contrast noise, a compile-time constant in flash (xorshift32 of `seed`).
-const fn noise(seed: u32) -> Frame {
-    let mut f = [0u8; PIXELS];
-    let mut s = seed;
-    let mut i = 0;
-    while i < PIXELS {
-        s ^= s << 13;
-        s ^= s >> 17;
-        s ^= s << 5;
-        // full contrast: every pixel black or white
-        f[i] = if s & 0x100 != 0 { 255 } else { 0 };
-        i += 1;
-    }
-    f
-}
-
-/// Built-in frames of the self-test: two unrelated full-contrast noise frames (every pixel
-/// changes, every part of the retina salient). In flash, so reading them costs wait states
-/// a camera row in SRAM does not: the board's figure is an upper bound.
-static FRAMES: [Frame; 2] = [noise(0x1234_5678), noise(0x9abc_def0)];
+/// Built-in frames of the self-test (`alvs_tasks::robot::self_test`): two unrelated
+/// full-contrast noise frames (every pixel changes, every part of the retina salient). In flash,
+/// so reading them costs wait states a camera row in SRAM does not: the board's figure is an
+/// upper bound. Exported by name so that the cycle model runs the self-test on these very bytes
+/// (`cargo alvs budget --boot`).
+#[no_mangle]
+pub static ALVS_BENCH_FRAMES: [Frame; 2] = [
+    self_test::noise(self_test::SEEDS[0]),
+    self_test::noise(self_test::SEEDS[1]),
+];
 
 /// Runs the bench entry on the built-in frames with `network` (then reset: the real run
-/// starts from a clean model) and prints the stage cycles of each frame on the log channel.
+/// starts from a clean model) and prints the stage cycles of each frame on the log channel
+/// (`bench:` lines, `alvs_tasks::robot::self_test::BenchLine`).
 pub fn self_test(network: &mut Network) {
     let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
-    for (i, frame) in FRAMES.iter().cycle().take(4).enumerate() {
+    let frames = ALVS_BENCH_FRAMES.iter().cycle().take(self_test::FRAMES);
+    for (i, frame) in (0u32..).zip(frames) {
         let mut report = Report::default();
         // SAFETY: all four are distinct live references of the right types.
         unsafe { alvs_bench_step(network, &mut control, frame, &mut report) };
-        let c = report.stage_cycles();
-        let total: u32 = c.iter().sum();
-        rtt_target::rprintln!(
-            "bench: frame {} cycles retina {} attention {} motion {} visuomotor {} control {} total {} ({} us at 180 MHz), {} AFs",
-            i,
-            c[0],
-            c[1],
-            c[2],
-            c[3],
-            c[4],
-            total,
-            total / 180,
-            report.afs
-        );
+        rtt_target::rprint!("{}", BenchLine::from_report(i, &report));
     }
     network.reset();
 }

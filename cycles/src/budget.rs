@@ -14,6 +14,7 @@ use std::process::Command;
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::robot::bench::{Report, STAMPS};
 use alvs_tasks::robot::control::Control;
+use alvs_tasks::robot::self_test::{self, BenchLine};
 use alvs_tasks::{Frame, Network, PIXELS};
 
 use crate::{Error, Machine, RamReport, CLOCK_HZ};
@@ -25,8 +26,7 @@ pub const GATE_CYCLES: u64 = PERIOD_CYCLES * 8 / 10;
 /// The speed goal: 2.0 ms at 180 MHz.
 pub const GOAL_CYCLES: u64 = 360_000;
 /// The stages, in the order of `Report::stage_cycles`.
-pub const STAGE_NAMES: [&str; STAMPS - 1] =
-    ["retina", "attention", "motion", "visuomotor", "control"];
+pub use alvs_tasks::robot::self_test::STAGE_NAMES;
 
 const TARGET: &str = "thumbv7em-none-eabihf";
 const PAINT: u32 = 0xDEAD_BEEF;
@@ -193,11 +193,16 @@ impl Bench {
     /// One frame: the report and the cycles.
     pub fn step(&mut self, frame: &Frame) -> Result<(Report, FrameCycles), Error> {
         self.m.write(self.frame, frame)?;
+        self.step_at(self.frame)
+    }
+
+    /// One frame read from `frame`, an address in the machine (e.g. a frame in the ELF's
+    /// flash): the report and the cycles.
+    pub fn step_at(&mut self, frame: u32) -> Result<(Report, FrameCycles), Error> {
         self.m.paint_stack(PAINT)?;
-        let run = self.m.call(
-            self.step,
-            &[self.network, self.control, self.frame, self.report],
-        )?;
+        let run = self
+            .m
+            .call(self.step, &[self.network, self.control, frame, self.report])?;
         let stack = self.m.stack_high_water(PAINT)?;
         let words = self.m.read(self.report, Report::WORDS * 4)?;
         let w: [u32; Report::WORDS] = std::array::from_fn(|i| {
@@ -236,6 +241,39 @@ impl Bench {
         };
         Ok((report, cycles))
     }
+}
+
+/// One frame of the boot self-test under the model: what the firmware's `bench:` line of that
+/// frame reports on the board, in both models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SelfTestFrame {
+    /// The line the model's run would print (its stages in pessimistic cycles, which is what
+    /// the virtual board's cycle counter counts).
+    pub line: BenchLine,
+    /// Both models' cycles per stage.
+    pub cycles: FrameCycles,
+}
+
+/// The firmware's boot self-test (`src/bench.rs`: `self_test`) under the model: a fresh
+/// network and controller, then the ELF's own built-in frames (`ALVS_BENCH_FRAMES`, read
+/// where the firmware reads them, in flash) in the firmware's order.
+pub fn self_test(elf: &[u8]) -> Result<Vec<SelfTestFrame>, Error> {
+    let mut bench = Bench::new(elf)?;
+    let frames = bench
+        .m
+        .symbol_raw("ALVS_BENCH_FRAMES")
+        .ok_or_else(|| Error::Elf("symbol ALVS_BENCH_FRAMES not in the ELF".into()))?;
+    let count = self_test::SEEDS.len() as u32;
+    (0..self_test::FRAMES as u32)
+        .map(|i| {
+            let (report, cycles) = bench.step_at(frames + (i % count) * PIXELS as u32)?;
+            let line = BenchLine {
+                stages: cycles.pessimistic.map(|c| c as u32),
+                ..BenchLine::from_report(i, &report)
+            };
+            Ok(SelfTestFrame { line, cycles })
+        })
+        .collect()
 }
 
 /// The same step built for the host.

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use alvs_cycles::budget::{build_firmware, read_clip, BuildError, CLIPS_DIR};
+use alvs_cycles::budget::{read_clip, CLIPS_DIR};
 use alvs_cycles::system::closed_loop::BottomBoard;
 use alvs_cycles::system::{Board, Config, ResetCause};
 use alvs_cycles::CLOCK_HZ;
@@ -15,24 +15,10 @@ use alvs_tasks::robot::motor::{self, BoardModel};
 use alvs_tasks::robot::telemetry::Record;
 use alvs_tasks::{Frame, Network, PIXELS};
 
+mod common;
+use common::{firmware, root};
+
 const MS: u64 = CLOCK_HZ / 1000;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("root")
-}
-
-fn firmware() -> Option<Vec<u8>> {
-    match build_firmware(root()) {
-        Ok(path) => Some(std::fs::read(path).expect("firmware ELF")),
-        Err(BuildError::TargetMissing) => {
-            println!("SKIPPED: {}", BuildError::TargetMissing);
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
-}
 
 fn clip(name: &str) -> Vec<Vec<u8>> {
     let frames = read_clip(&root().join(CLIPS_DIR).join(name)).expect("clip");
@@ -351,6 +337,29 @@ fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
         stderr.contains("7133 bytes is not a whole number of 99x72 Y8 frames (7128 bytes each)"),
         "{stderr}"
     );
+
+    // relative paths are the caller's, and a missing clip is one line
+    let clips = root().join(CLIPS_DIR);
+    let run_in = |dir: &Path, clip: &str| {
+        std::process::Command::new(exe)
+            .args(["--clip", clip, "--seconds", "0.3", "--telemetry", "0"])
+            .current_dir(dir)
+            .output()
+            .expect("runs")
+    };
+    let out = run_in(&clips, "test_grating.y8");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = run_in(&clips, "tests/data/clips/test_grating.y8");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "not the workspace's path");
+    assert_eq!(
+        stderr.trim_end(),
+        "alvs-virtual: --clip tests/data/clips/test_grating.y8: No such file or directory (os error 2)"
+    );
 }
 
 #[test]
@@ -427,5 +436,45 @@ fn no_frame_is_dropped_when_vsync_follows_frame_complete_at_once() {
     assert_eq!(
         alvs_cycles::system::report::summary_total(log, "processed"),
         frames
+    );
+}
+
+/// `line` with every run of digits as `#`: the shape of a line, whatever the cycle counts.
+fn masked(line: &str) -> String {
+    let mut out = String::new();
+    for c in line.chars() {
+        if !c.is_ascii_digit() {
+            out.push(c);
+        } else if !out.ends_with('#') {
+            out.push('#');
+        }
+    }
+    out
+}
+
+#[test]
+fn the_bring_up_guide_shows_what_a_healthy_boot_prints() {
+    if firmware().is_none() {
+        return;
+    }
+    let doc = std::fs::read_to_string(root().join("docs/bringup.md")).expect("docs/bringup.md");
+    let start = doc
+        .find("<!-- boot-log:start -->\n```text\n")
+        .expect("start marker");
+    let end = doc.find("```\n<!-- boot-log:end -->").expect("end marker");
+    let shown = &doc[start + "<!-- boot-log:start -->\n```text\n".len()..end];
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_alvs-virtual"))
+        .args(["--seconds", "1.3", "--telemetry", "3"])
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let printed = &stdout[..stdout.find("── timing ──").expect("the timing report")];
+    let (shown, printed): (Vec<String>, Vec<String>) = (
+        shown.lines().map(masked).collect(),
+        printed.lines().map(masked).collect(),
+    );
+    assert_eq!(
+        shown, printed,
+        "docs/bringup.md's boot differs from `cargo alvs virtual --seconds 1.3 --telemetry 3`:\n{stdout}"
     );
 }

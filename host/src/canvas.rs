@@ -6,6 +6,9 @@
 
 use std::{io, ops::Range, path::Path};
 
+mod histogram;
+pub use histogram::Histogram;
+
 /// An 8-bit RGB colour.
 pub type Rgb = [u8; 3];
 
@@ -295,6 +298,11 @@ pub struct Plot {
     pub markers: Vec<usize>,
     /// Fixed y range (used if finite with lo < hi); `None` fits the data.
     pub y_range: Option<(f32, f32)>,
+    /// A strip along the top of the plot area, one colour per sample (`None`: blank), e.g. a
+    /// state machine's state.
+    pub band: Vec<Option<Rgb>>,
+    /// The band's legend: a name per colour.
+    pub band_legend: Vec<(String, Rgb)>,
 }
 
 /// A "nice" step (1, 2 or 5 times a power of ten) cutting `span > 0` into about `parts` pieces.
@@ -332,6 +340,13 @@ impl Plot {
     pub fn markers(mut self, label: &str, xs: &[usize]) -> Self {
         self.marker_label = label.into();
         self.markers.extend_from_slice(xs);
+        self
+    }
+
+    /// Adds a band: `colours[i]` over sample i, `legend` naming the colours.
+    pub fn band(mut self, colours: &[Option<Rgb>], legend: &[(&str, Rgb)]) -> Self {
+        self.band = colours.to_vec();
+        self.band_legend = legend.iter().map(|&(n, c)| (n.into(), c)).collect();
         self
     }
 
@@ -380,11 +395,17 @@ impl Plot {
         c.text((w - text_w(&self.title)) / 2, margin, &self.title, INK, k);
         let mut top = margin + if self.title.is_empty() { 0 } else { row };
 
-        // Legend: a swatch and a name per series (then the markers), wrapped into rows.
+        // Legend: a swatch and a name per series (then the markers, then the band's colours),
+        // wrapped into rows.
         let names = self.series.iter().map(|s| s.0.as_str());
-        let mut entries: Vec<_> = names.zip((0..).map(|i| Some(colour_cycle(i)))).collect();
+        let mut entries: Vec<_> = names
+            .zip((0..).map(|i| Swatch::Line(colour_cycle(i))))
+            .collect();
         if !self.markers.is_empty() {
-            entries.push((self.marker_label.as_str(), None));
+            entries.push((self.marker_label.as_str(), Swatch::Marker));
+        }
+        for (name, colour) in &self.band_legend {
+            entries.push((name.as_str(), Swatch::Block(*colour)));
         }
         let mut x = margin;
         for (name, colour) in &entries {
@@ -392,8 +413,9 @@ impl Plot {
                 (x, top) = (margin, top + line_h);
             }
             match colour {
-                Some(colour) => c.fill_rect(x, top + 3 * s, 10 * s, 2 * s, *colour),
-                None => c.fill_rect(x + 4 * s, top, s, 7 * s, RED),
+                Swatch::Line(colour) => c.fill_rect(x, top + 3 * s, 10 * s, 2 * s, *colour),
+                Swatch::Marker => c.fill_rect(x + 4 * s, top, s, 7 * s, RED),
+                Swatch::Block(colour) => c.fill_rect(x, top, 10 * s, 7 * s, *colour),
             }
             c.text(x + 14 * s, top, name, INK, k);
             x += 26 * s + text_w(name);
@@ -402,7 +424,9 @@ impl Plot {
 
         // Ranges, ticks and the plot area.
         let lens = self.series.iter().map(|s| s.1.len());
-        let n = lens.chain(self.markers.iter().map(|m| m + 1));
+        let n = lens
+            .chain(self.markers.iter().map(|m| m + 1))
+            .chain([self.band.len()]);
         let x_max = n.max().unwrap_or(0).saturating_sub(1).max(1) as f64;
         let x_ticks = ticks(0.0, x_max, nice_step(x_max, 6.0).max(1.0));
         let (y_lo, y_hi, y_step) = self.y_axis();
@@ -429,6 +453,13 @@ impl Plot {
         }
         for &v in &y_ticks {
             area.line(0, py(v), pw, py(v), GRID);
+        }
+        let band_h = (ph / 16).max(4 * s);
+        for (j, colour) in self.band.iter().enumerate() {
+            if let Some(colour) = colour {
+                let (x0, x1) = (px(j as f64), px(j as f64 + 1.0));
+                area.fill_rect(x0, 0, (x1 - x0).max(1), band_h, *colour);
+            }
         }
         let marker_h = (ph / 10).max(4 * s);
         for &m in &self.markers {
@@ -470,6 +501,13 @@ impl Plot {
         c.text(left + (pw - text_w(xl)) / 2, xl_y, xl, INK, k);
         c
     }
+}
+
+/// A legend entry's mark: a series' line, the markers' tick, a band's colour.
+enum Swatch {
+    Line(Rgb),
+    Marker,
+    Block(Rgb),
 }
 
 /// The 5x7 font: seven rows per glyph, top first, bit 4 = leftmost pixel.
@@ -755,5 +793,27 @@ mod tests {
         }
         assert!(count(&plots[3].render(320, 200), colour_cycle(0)) > 100);
         assert!(count(&plots[2].render(320, 200), RED) > 0);
+    }
+
+    #[test]
+    fn a_band_colours_its_samples_and_names_its_colours() {
+        let (a, b) = ([10, 200, 10], [200, 10, 200]);
+        let band: Vec<Option<Rgb>> = (0..40).map(|i| [Some(a), None, Some(b)][i / 14]).collect();
+        let plot = Plot::new("band")
+            .series("y", &[1.0; 40])
+            .band(&band, &[("first", a), ("last", b)]);
+        let c = plot.render(320, 200);
+        // a third of the samples each, a strip of the area's height / 16, plus the legend
+        assert!(
+            count(&c, a) > 200 && count(&c, b) > 200,
+            "{} {}",
+            count(&c, a),
+            count(&c, b)
+        );
+        let without = Plot::new("band").series("y", &[1.0; 40]).render(320, 200);
+        assert_eq!(count(&without, a), 0);
+        for (w, h) in [(0, 0), (5, 5), (40, 30)] {
+            assert_eq!(plot.render(w, h).pixels.len(), w * h);
+        }
     }
 }

@@ -9,4 +9,5 @@ pub mod experiments;
 pub mod lgmd2;
 pub mod recordings;
 pub mod replay;
+pub mod rtt_log;
 pub mod scenes;

@@ -15,6 +15,7 @@ use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod log_command;
 mod shards;
 
 #[derive(Parser)]
@@ -120,6 +121,12 @@ enum Cmd {
     /// refused. A merged `stimuli` draws its tracks pictures only: the layer pictures replay
     /// camera frames the shard files do not carry.
     Merge(shards::MergeArgs),
+    /// Read back a saved RTT session of the firmware (what Embed.toml's `log_enabled` makes
+    /// `cargo embed` write, or a tab's text piped in) and summarise it: frames, drops, cycles
+    /// per frame against the 33 ms period, time per FSM state, alerts, attention fields, each
+    /// boot and what reset it, the boot self-test's `bench:` cycles next to the cycle model's
+    /// for this build, and every line that could not be read (docs/log.md).
+    Log(log_command::LogArgs),
 }
 
 /// The simulated worlds `validate` can drive in.
@@ -634,10 +641,13 @@ fn main() -> ExitCode {
         {
             ExitCode::SUCCESS
         }
-        Err(e) => {
-            eprintln!("alvs: error: {e:#}");
-            ExitCode::FAILURE
-        }
+        Err(e) => match e.downcast_ref::<Exit>() {
+            Some(Exit(code)) => ExitCode::from(*code),
+            None => {
+                eprintln!("alvs: error: {e:#}");
+                ExitCode::FAILURE
+            }
+        },
     }
 }
 
@@ -726,35 +736,55 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
+        Cmd::Log(a) => log_command::run(a, cycles_bin),
     }
 }
 
 /// Runs a binary of the crate alvs-cycles (`alvs-budget`, `alvs-virtual`) through cargo, so that
-/// the host tools themselves never need the emulator's C build.
+/// the host tools themselves never need the emulator's C build. It runs in the caller's folder
+/// (its relative paths are the caller's); when it fails it has said why on stderr, in one line,
+/// and `alvs` exits with its status without a second message.
 fn run_cycles_bin(bin: &str, args: &[String]) -> Result<()> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .context("workspace root")?;
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = std::process::Command::new(cargo)
-        .args([
-            "run",
-            "--quiet",
-            "--target",
-            "host-tuple",
-            "-p",
-            "alvs-cycles",
-        ])
-        .args(["--bin", bin, "--"])
-        .args(args)
-        .current_dir(root)
-        .status()
-        .context("running cargo")?;
+    let status = cycles_bin(bin, args).status().context("running cargo")?;
     if !status.success() {
-        bail!("{bin} failed ({status})");
+        return Err(Exit(status.code().unwrap_or(1).clamp(1, 255) as u8).into());
     }
     Ok(())
 }
+
+/// `cargo run` of a binary of alvs-cycles, from the workspace's manifest, in the current folder.
+fn cycles_bin(bin: &str, args: &[String]) -> std::process::Command {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap_or(Path::new(".."))
+        .join("Cargo.toml");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut c = std::process::Command::new(cargo);
+    c.args([
+        "run",
+        "--quiet",
+        "--target",
+        "host-tuple",
+        "--manifest-path",
+    ])
+    .arg(manifest)
+    .args(["-p", "alvs-cycles", "--bin", bin, "--"])
+    .args(args);
+    c
+}
+
+/// The exit status of a failed child that reported its own error: `alvs` exits with it and
+/// prints nothing more.
+#[derive(Debug)]
+struct Exit(u8);
+
+impl std::fmt::Display for Exit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "exit status {}", self.0)
+    }
+}
+
+impl std::error::Error for Exit {}
 
 /// A progress bar on stderr for `total` camera frames (hidden by indicatif when stderr is not
 /// a terminal: CI logs, pipes).

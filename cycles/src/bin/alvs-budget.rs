@@ -23,9 +23,9 @@ struct Args {
     /// stack peak.
     #[arg(long)]
     json: bool,
-    /// Folder of `.y8` clips (relative paths are taken from the workspace root).
-    #[arg(long, value_name = "DIR", default_value = CLIPS_DIR)]
-    clips: PathBuf,
+    /// Folder of `.y8` clips (default: the workspace's tests/data/clips).
+    #[arg(long, value_name = "DIR")]
+    clips: Option<PathBuf>,
     /// Run every clip of the folder (minutes), not only the CI gate's busiest four.
     #[arg(long)]
     all_clips: bool,
@@ -40,8 +40,16 @@ struct Args {
     /// Rows of each profile listing.
     #[arg(long, value_name = "N", default_value_t = 40)]
     top: usize,
+    /// Only the boot self-test (the `bench:` lines the firmware prints at boot) on the model,
+    /// per frame and stage, nominal and pessimistic, with the worst case documented in
+    /// docs/budget.md (what `cargo alvs log` compares a board's log with); seconds, not
+    /// minutes. With --json, as JSON.
+    #[arg(long)]
+    boot: bool,
 }
 
+/// The budget's document, where `--write-doc` puts the table and its worst case.
+const DOC: &str = "docs/budget.md";
 const START: &str = "<!-- budget-table:start -->";
 const END: &str = "<!-- budget-table:end -->";
 
@@ -61,14 +69,15 @@ fn run(a: Args) -> Result<(), String> {
         .ok_or("no workspace root")?;
     let path = build_firmware(root)?;
     let elf = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if a.boot {
+        let doc = std::fs::read_to_string(root.join(DOC)).unwrap_or_default();
+        print!("{}", boot_text(&elf, documented_worst(&doc), a.json)?);
+        return Ok(());
+    }
     let mut bench = Bench::new(&elf).map_err(|e| e.to_string())?;
     let ram = bench.machine().ram_report().clone();
     let mut scenes = worst_cases();
-    let dir = if a.clips.is_relative() {
-        root.join(&a.clips)
-    } else {
-        a.clips.clone()
-    };
+    let dir = a.clips.clone().unwrap_or_else(|| root.join(CLIPS_DIR));
     let only: Option<&[&str]> = if a.all_clips { None } else { Some(&GATE_CLIPS) };
     scenes.extend(clips(&dir, only)?);
     if let Some(name) = &a.profile {
@@ -110,7 +119,7 @@ fn run(a: Args) -> Result<(), String> {
     }
     let mut text = table(&results);
     text += &format!(
-        "\nWorst case: **{}** frame {}: {p} pessimistic cycles = {:.2} ms at 180 MHz = {:.1} % of the \
+        "\n{WORST} **{}** frame {}: {p} pessimistic cycles = {:.2} ms at 180 MHz = {:.1} % of the \
          6.0 M-cycle period (gate: {GATE_CYCLES}); worst nominal {nominal}. Goal {GOAL_CYCLES} (2.0 ms).\n\
          Static RAM {} B (.data + .bss + .uninit), frame stack peak {stack} B.\n",
         worst.name,
@@ -283,4 +292,113 @@ fn profile_text(p: &Profile, bench: &Bench, elf: &Path, top: usize) -> String {
         );
     }
     s
+}
+
+/// How the worst-case sentence after the table begins.
+const WORST: &str = "Worst case:";
+
+/// The worst case a `--write-doc` run put in the document: scene, frame, pessimistic and
+/// nominal cycles (`None` when the document has no such sentence).
+fn documented_worst(doc: &str) -> Option<(String, u32, u64, u64)> {
+    let line = doc.lines().find_map(|l| l.strip_prefix(WORST))?;
+    let (scene, rest) = line.trim().strip_prefix("**")?.split_once("** frame ")?;
+    let (frame, rest) = rest.split_once(": ")?;
+    let (p, rest) = rest.split_once(" pessimistic cycles")?;
+    let n = rest.split_once("worst nominal ")?.1.split('.').next()?;
+    Some((
+        scene.to_owned(),
+        frame.parse().ok()?,
+        p.parse().ok()?,
+        n.parse().ok()?,
+    ))
+}
+
+/// The boot self-test under the model, as a table or JSON, with the documented worst case.
+fn boot_text(
+    elf: &[u8],
+    worst: Option<(String, u32, u64, u64)>,
+    json: bool,
+) -> Result<String, String> {
+    use std::fmt::Write;
+    let frames = alvs_cycles::budget::self_test(elf).map_err(|e| e.to_string())?;
+    let mut s = String::new();
+    if json {
+        let list = |v: &[u64]| v.iter().map(u64::to_string).collect::<Vec<_>>().join(",");
+        let frames: Vec<String> = frames
+            .iter()
+            .map(|f| {
+                format!(
+                    "{{\"frame\":{},\"afs\":{},\"nominal\":[{}],\"pessimistic\":[{}]}}",
+                    f.line.frame,
+                    f.line.afs,
+                    list(&f.cycles.nominal),
+                    list(&f.cycles.pessimistic)
+                )
+            })
+            .collect();
+        let worst = worst.map_or("null".to_owned(), |(scene, frame, p, n)| {
+            format!(
+                "{{\"scene\":\"{scene}\",\"frame\":{frame},\"pessimistic\":{p},\"nominal\":{n},\"source\":\"{DOC}\"}}"
+            )
+        });
+        let _ = writeln!(
+            s,
+            "{{\"stages\":[{}],\"frames\":[{}],\"worst_case\":{worst}}}",
+            STAGE_NAMES.map(|n| format!("\"{n}\"")).join(","),
+            frames.join(",")
+        );
+        return Ok(s);
+    }
+    let _ = writeln!(
+        s,
+        "boot self-test on the cycle model (the ELF's built-in frames, in flash, as init runs them)"
+    );
+    let _ = writeln!(s, "frame  stage        nominal  pessimistic");
+    for f in &frames {
+        let rows = STAGE_NAMES
+            .iter()
+            .zip(f.cycles.nominal.iter().zip(&f.cycles.pessimistic));
+        for (name, (n, p)) in rows {
+            let _ = writeln!(s, "{:>5}  {name:<10} {n:>9} {p:>12}", f.line.frame);
+        }
+        let _ = writeln!(
+            s,
+            "{:>5}  {:<10} {:>9} {:>12}   {} AFs",
+            f.line.frame,
+            "total",
+            f.cycles.nominal_total(),
+            f.cycles.pessimistic_total(),
+            f.line.afs
+        );
+    }
+    match worst {
+        Some((scene, frame, p, n)) => {
+            let _ = writeln!(
+                s,
+                "worst case in {DOC}: {scene} frame {frame}, {p} pessimistic, {n} nominal cycles"
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "no worst case in {DOC} (cargo alvs budget --write-doc {DOC})"
+            );
+        }
+    }
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_documented_worst_case_reads_back() {
+        let doc = "| a | b |\n\nWorst case: **test_black_approach** frame 49: 1784382 pessimistic cycles = 9.91 ms at 180 MHz = 29.7 % of the 6.0 M-cycle period (gate: 4800000); worst nominal 1681455. Goal 360000 (2.0 ms).\n";
+        assert_eq!(
+            documented_worst(doc),
+            Some(("test_black_approach".into(), 49, 1_784_382, 1_681_455))
+        );
+        assert_eq!(documented_worst("no table"), None);
+    }
 }

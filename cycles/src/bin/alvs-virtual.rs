@@ -18,7 +18,7 @@ use clap::Parser;
 )]
 struct Args {
     /// Camera input: a raw 99x72 Y8 clip (looped); without it a still grey scene with sensor
-    /// noise. Relative paths are taken from the workspace root.
+    /// noise.
     #[arg(long, value_name = "FILE")]
     clip: Option<PathBuf>,
     /// Simulated time, seconds.
@@ -56,9 +56,18 @@ struct Args {
     /// Wall texture of the evasion arena (as `cargo alvs evasion --background`).
     #[arg(long, default_value = "clutter:1")]
     background: String,
-    /// Folder for the evasion picture (relative paths from the workspace root).
+    /// Folder for the evasion picture.
     #[arg(long, value_name = "DIR", default_value = "out/virtual")]
     out: PathBuf,
+    /// Also save the session's RTT channels into this folder exactly as `cargo embed` does with
+    /// `log_enabled` (one file per tab, `alvs-firmware_STM32F427VITx_<unix ms>_channel<tab>.txt`),
+    /// for `cargo alvs log`; the probe then reads RTT as often as cargo-embed does (50 ms).
+    #[arg(long, value_name = "DIR")]
+    embed_log: Option<PathBuf>,
+    /// How often the virtual probe reads RTT, ms (default 1; 50, cargo-embed's, with
+    /// --embed-log). The firmware drops a line that does not fit its channel's buffer.
+    #[arg(long, value_name = "MS")]
+    rtt_poll_ms: Option<f64>,
     /// Instead of one run: dropped frames per second for each of these blanking fractions
     /// (comma-separated), at the given --lines.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -85,14 +94,11 @@ fn root() -> &'static Path {
 fn frames(args: &Args) -> Result<Vec<Vec<u8>>, String> {
     let size = WIDTH * HEIGHT;
     match &args.clip {
-        Some(path) => {
-            let path = if path.is_relative() {
-                root().join(path)
-            } else {
-                path.clone()
-            };
-            Ok(read_clip(&path)?.iter().map(|f| f.to_vec()).collect())
-        }
+        Some(path) => Ok(read_clip(path)
+            .map_err(|e| format!("--clip {e}"))?
+            .iter()
+            .map(|f| f.to_vec())
+            .collect()),
         None => Ok((0..8u32)
             .map(|k| {
                 (0..size as u32)
@@ -126,8 +132,24 @@ fn config(args: &Args, blanking: f64) -> Result<Config, String> {
             ..CameraTiming::default()
         },
         camera_present: !args.no_camera,
-        ..Config::default()
+        rtt_poll_cycles: cycles(rtt_poll_ms(args)? / 1e3).max(1),
     })
+}
+
+/// cargo-embed reads RTT every 50 ms (`RTT_POLL_INTERVAL` in its `rttui/app.rs`).
+const EMBED_POLL_MS: f64 = 50.0;
+
+/// The virtual probe's RTT poll interval, ms.
+fn rtt_poll_ms(args: &Args) -> Result<f64, String> {
+    let default = if args.embed_log.is_some() {
+        EMBED_POLL_MS
+    } else {
+        1.0
+    };
+    match args.rtt_poll_ms.unwrap_or(default) {
+        ms if (0.01..=1000.0).contains(&ms) => Ok(ms),
+        ms => Err(format!("--rtt-poll-ms {ms}: must be in 0.01..=1000")),
+    }
 }
 
 fn board(elf: &[u8], frames: &[Vec<u8>], config: Config) -> Result<Board, String> {
@@ -164,6 +186,11 @@ fn run(args: &Args) -> Result<(), String> {
     if !(0.0..=600.0).contains(&args.seconds) {
         return Err(format!("--seconds {}: must be in 0..=600", args.seconds));
     }
+    if args.embed_log.is_some() && (args.evasion.is_some() || !args.sweep_blanking.is_empty()) {
+        return Err(
+            "--embed-log saves one plain run: not with --evasion or --sweep-blanking".into(),
+        );
+    }
     let frames = frames(args)?;
     let elf_path = build_firmware(root()).map_err(|e| e.to_string())?;
     let elf =
@@ -189,6 +216,10 @@ fn run(args: &Args) -> Result<(), String> {
             b.run_for(1_000).map_err(|e| e.to_string())?;
         }
     }
+    // the wall clock when the virtual probe attached, as cargo-embed notes it
+    let start_ms = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64);
     if let Some(at) = args.fault_at.filter(|&t| cycles(t) < end) {
         b.run_until(cycles(at)).map_err(|e| e.to_string())?;
         b.inject_undefined_instruction()
@@ -216,6 +247,14 @@ fn run(args: &Args) -> Result<(), String> {
         }
     }
     print!("{report}");
+    if let Some(dir) = &args.embed_log {
+        let files = alvs_cycles::system::embed_log::write(&b, dir, start_ms)
+            .map_err(|e| format!("--embed-log {}: {e}", dir.display()))?;
+        println!("── cargo-embed log ──");
+        for f in files {
+            println!("{}", f.display());
+        }
+    }
     Ok(())
 }
 
@@ -247,12 +286,7 @@ fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
         if result.collided() { "COLLIDED" } else { "no collision" },
         result.min_distance_mm[0]
     );
-    let dir = if args.out.is_relative() {
-        root().join(&args.out)
-    } else {
-        args.out.clone()
-    };
-    let path = dir.join(format!("evasion_{bearing:+.0}.png"));
+    let path = args.out.join(format!("evasion_{bearing:+.0}.png"));
     picture(&result, bearing, correct_side, &path)?;
     println!("picture: {}", path.display());
     Ok(())

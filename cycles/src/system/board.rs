@@ -243,6 +243,11 @@ impl Board {
         self.uc.get_data().rtt.text(i)
     }
 
+    /// RTT up channel `i` with the reads that moved its text to the host.
+    pub fn rtt_channel(&self, i: usize) -> Option<&rtt::Channel> {
+        self.uc.get_data().rtt.channels.get(i)
+    }
+
     /// Types `bytes` into RTT down channel 0, as a probe's terminal does; the firmware reads
     /// them as it polls.
     pub fn rtt_type(&mut self, bytes: &[u8]) {
@@ -606,7 +611,7 @@ impl Board {
                 st.events
                     .schedule(at + st.config.rtt_poll_cycles, Event::RttPoll);
                 let mut rtt = std::mem::take(&mut st.rtt);
-                rtt.poll(&mut UcMemory(&mut self.uc));
+                rtt.poll(&mut UcMemory(&mut self.uc), at);
                 self.uc.get_data_mut().rtt = rtt;
             }
         }

@@ -7,6 +7,7 @@ pub mod bus;
 pub mod closed_loop;
 pub mod dcmi;
 pub mod dma;
+pub mod embed_log;
 pub mod events;
 pub mod gpio;
 pub mod iwdg;

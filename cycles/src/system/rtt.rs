@@ -51,6 +51,9 @@ impl Descriptor {
 pub struct Channel {
     pub name: String,
     pub text: String,
+    /// What each poll that found new bytes read: its time (the caller's clock) and the length
+    /// of the text it appended, in order (the pieces a probe's host tool receives).
+    pub reads: Vec<(u64, usize)>,
 }
 
 /// The reader's state: the block address and the channels seen.
@@ -118,9 +121,9 @@ impl Rtt {
             .min(16)
     }
 
-    /// Moves every up channel's new bytes into its text; nothing while the block is not
-    /// initialised (before `rtt_init!` ran).
-    pub fn poll(&mut self, mem: &mut impl Memory) {
+    /// Moves every up channel's new bytes into its text, noting the read at time `now`;
+    /// nothing while the block is not initialised (before `rtt_init!` ran).
+    pub fn poll(&mut self, mem: &mut impl Memory, now: u64) {
         let Some(id) = mem.read(self.block, ID.len()) else {
             return;
         };
@@ -138,6 +141,7 @@ impl Rtt {
                 self.channels.push(Channel {
                     name: c_string(mem, name),
                     text: String::new(),
+                    reads: Vec::new(),
                 });
             }
             if buffer == 0 || size == 0 || write >= size || read >= size || write == read {
@@ -153,9 +157,10 @@ impl Rtt {
                 Some(a)
             };
             if let Some(b) = bytes {
-                self.channels[i as usize]
-                    .text
-                    .push_str(&String::from_utf8_lossy(&b));
+                let channel = &mut self.channels[i as usize];
+                let piece = String::from_utf8_lossy(&b);
+                channel.text.push_str(&piece);
+                channel.reads.push((now, piece.len()));
                 mem.write_u32(at + READ_OFFSET, write);
             }
         }
@@ -205,17 +210,17 @@ mod tests {
         }
         let mut rtt = Rtt::new(0);
         rtt.type_in(b"hgxy");
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 0);
         assert_eq!(&ram.0[400..403], b"hgx", "a ring of 4 holds 3");
         assert_eq!(ram.read_u32(down + 12), Some(3));
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 0);
         assert_eq!(
             ram.read_u32(down + 12),
             Some(3),
             "full until the target reads"
         );
         ram.write_u32(down + 16, 2); // the target read "hg"
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 0);
         assert_eq!(ram.0[403], b'y');
         assert_eq!(ram.read_u32(down + 12), Some(0), "wrapped");
         assert!(rtt.typed.is_empty());
@@ -232,14 +237,19 @@ mod tests {
         }
         ram.0[300..308].copy_from_slice(b"hello!ab");
         let mut rtt = Rtt::new(0);
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 0);
         assert_eq!(rtt.channels[0].name, "log");
         assert_eq!(rtt.text(0), "hello");
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 0);
         assert_eq!(rtt.text(0), "hello", "read offset advanced");
         ram.write_u32(24 + 12, 2); // wrote "!ab" and wrapped to 2
         ram.0[300..302].copy_from_slice(b"cd");
-        rtt.poll(&mut ram);
+        rtt.poll(&mut ram, 7);
         assert_eq!(rtt.text(0), "hello!abcd");
+        assert_eq!(
+            rtt.channels[0].reads,
+            [(0, 5), (7, 5)],
+            "one read per poll with news"
+        );
     }
 }

@@ -342,15 +342,7 @@ pub fn static_name<'de, D: serde::Deserializer<'de>>(
     use alvs_tasks::model::fsm::State;
     let s = String::deserialize(d)?;
     let kinds = [Kind::Alvs, Kind::Swarm, Kind::Lgmd2].map(Kind::name);
-    let states = [
-        State::Wander,
-        State::LongTakeoff,
-        State::Escape,
-        State::ShortTakeoff,
-        State::Spin,
-        State::Look,
-    ]
-    .map(State::name);
+    let states = State::ALL.map(State::name);
     kinds
         .into_iter()
         .chain(states)

@@ -64,6 +64,16 @@ pub enum State {
 }
 
 impl State {
+    /// Every state, in declaration order.
+    pub const ALL: [State; 6] = [
+        State::Wander,
+        State::LongTakeoff,
+        State::Escape,
+        State::ShortTakeoff,
+        State::Spin,
+        State::Look,
+    ];
+
     /// Lower-case name used in JSON and telemetry.
     pub const fn name(self) -> &'static str {
         match self {
@@ -78,16 +88,7 @@ impl State {
 
     /// Inverse of [`State::name`].
     pub fn from_name(s: &str) -> Option<State> {
-        [
-            State::Wander,
-            State::LongTakeoff,
-            State::Escape,
-            State::ShortTakeoff,
-            State::Spin,
-            State::Look,
-        ]
-        .into_iter()
-        .find(|st| st.name() == s)
+        State::ALL.into_iter().find(|st| st.name() == s)
     }
 }
 

@@ -35,6 +35,7 @@
 //!   again once primed.
 
 use crate::robot::camera::Counters;
+use crate::robot::line::{self, LineError};
 use core::fmt::{self, Write};
 
 /// CPU clock, Hz: HSE 25 MHz through the PLL (M 25, N 360, P 2). From public firmware;
@@ -209,6 +210,65 @@ impl Summary {
         // Cannot fail: SUMMARY_LINE_CAP bounds every line (tested).
         let _ = self.write_line(&mut s);
         s
+    }
+
+    /// Parses a line [`Summary::write_line`] wrote (the terminator is optional): every field
+    /// in order, canonical decimals, `cycles` as `-` or `min/mean/max` in that order. Anything
+    /// else is an error, so a host never counts a corrupted line. Never panics.
+    pub fn parse_line(s: &str) -> Result<Summary, LineError> {
+        let mut t = line::bare(s).split(' ');
+        if t.next() != Some("S") {
+            return Err(LineError::OtherLine);
+        }
+        let second = line::number(&mut t, "S")?;
+        let mut field = |key: &'static str| {
+            let v = line::tagged(&mut t, key).ok_or(LineError::Missing(key))?;
+            Ok::<&str, LineError>(v)
+        };
+        let num =
+            |v: &str, key: &'static str| line::canonical_u32(v).ok_or(LineError::BadNumber(key));
+        let frames = num(field("frames=")?, "frames=")?;
+        let processed = num(field("processed=")?, "processed=")?;
+        let dropped = num(field("dropped=")?, "dropped=")?;
+        let invalid = num(field("invalid=")?, "invalid=")?;
+        let overruns = num(field("overruns=")?, "overruns=")?;
+        let sync_errors = num(field("sync=")?, "sync=")?;
+        let cycles = match field("cycles=")? {
+            "-" => None,
+            v => {
+                let mut parts = v.split('/');
+                let mut next = || num(parts.next().unwrap_or(""), "cycles=");
+                let c = (next()?, next()?, next()?);
+                if parts.next().is_some() {
+                    return Err(LineError::BadNumber("cycles="));
+                }
+                if !(c.0 <= c.1 && c.1 <= c.2) {
+                    return Err(LineError::Inconsistent("cycles="));
+                }
+                Some(c)
+            }
+        };
+        let misses = num(field("misses=")?, "misses=")?;
+        let rtt_dropped = num(field("rtt_dropped=")?, "rtt_dropped=")?;
+        line::end(&mut t)?;
+        if (cycles.is_none() && processed > 0) || (cycles.is_some() && processed == 0) {
+            return Err(LineError::Inconsistent("cycles="));
+        }
+        if misses > processed {
+            return Err(LineError::Inconsistent("misses="));
+        }
+        Ok(Summary {
+            second,
+            frames,
+            processed,
+            dropped,
+            invalid,
+            overruns,
+            sync_errors,
+            cycles,
+            misses,
+            rtt_dropped,
+        })
     }
 }
 
@@ -444,7 +504,10 @@ impl Safety {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
+
     use super::*;
+    use std::string::{String, ToString};
 
     #[test]
     fn budget_is_one_frame_at_180_mhz() {
@@ -537,6 +600,40 @@ mod tests {
         let line = s.to_line();
         assert_eq!(line.len(), SUMMARY_LINE_CAP);
         assert!(line.ends_with(" rtt_dropped=4294967295\n"));
+    }
+
+    #[test]
+    fn summary_lines_parse_back() {
+        let mut w = SummaryWindow::new();
+        w.record_frame(1_401_234);
+        w.record_frame(7_000_000);
+        let busy = w.close(totals(30, 1, 2, 3, 4), 5);
+        let idle = w.close(totals(30, 1, 2, 3, 4), 5);
+        for s in [busy, idle] {
+            let line = s.to_line();
+            assert_eq!(Summary::parse_line(&line), Ok(s));
+            assert_eq!(Summary::parse_line(line.trim_end()), Ok(s));
+        }
+        let ok = "S 1 frames=30 processed=3 dropped=1 invalid=0 overruns=0 sync=0 cycles=1/2/3 misses=0 rtt_dropped=0";
+        assert!(Summary::parse_line(ok).is_ok());
+        use LineError::*;
+        let cases: [(String, LineError); 12] = [
+            ("F 1 st=wander".into(), OtherLine),
+            ("S".into(), Missing("S")),
+            ("S 01 frames=30".into(), BadNumber("S")),
+            ("S 1 frames=30 processed=3".into(), Missing("dropped=")),
+            (ok.replace("sync=0", "sync=x"), BadNumber("sync=")),
+            (ok.replace("1/2/3", "1/2"), BadNumber("cycles=")),
+            (ok.replace("1/2/3", "1/2/3/4"), BadNumber("cycles=")),
+            (ok.replace("1/2/3", "3/2/1"), Inconsistent("cycles=")),
+            (ok.replace("1/2/3", "-"), Inconsistent("cycles=")),
+            (ok.replace("misses=0", "misses=4"), Inconsistent("misses=")),
+            (ok.replace(" rtt_dropped=0", ""), Missing("rtt_dropped=")),
+            (ok.to_string() + " x", TrailingData),
+        ];
+        for (line, err) in cases {
+            assert_eq!(Summary::parse_line(&line), Err(err), "{line}");
+        }
     }
 
     const T0: u32 = 1_000;

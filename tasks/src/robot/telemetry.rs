@@ -32,6 +32,7 @@
 use crate::frame::{HEIGHT, WIDTH};
 use crate::model::fsm::State;
 use crate::model::network::MAX_AFS;
+use crate::robot::line;
 use core::fmt::{self, Write};
 
 /// Largest threat centroid in tenths of a pixel: the last column, `WIDTH - 1` = 98.0.
@@ -41,14 +42,7 @@ pub const MAX_X_TENTHS: u16 = (WIDTH as u16 - 1) * 10;
 pub const MAX_STRENGTH_MILLI: u16 = 1000;
 
 /// Every FSM state, to size [`LINE_CAP`] from the longest name.
-const STATES: [State; 6] = [
-    State::Wander,
-    State::LongTakeoff,
-    State::Escape,
-    State::ShortTakeoff,
-    State::Spin,
-    State::Look,
-];
+const STATES: [State; 6] = State::ALL;
 
 const fn longest_state_name() -> usize {
     let mut max = 0;
@@ -180,6 +174,14 @@ impl Record {
         self.threat_x_tenths.map(|t| f32::from(t) / 10.0)
     }
 
+    /// The frame alerted: the visuomotor pathway has a threat centroid X̄ exactly when a field
+    /// is stimulated or the floor line sees an obstacle ahead
+    /// ([`crate::model::visuomotor::Visuomotor::alert`]), so the line carries the alert in
+    /// its `X=` field.
+    pub fn alert(&self) -> bool {
+        self.threat_x_tenths.is_some()
+    }
+
     /// Writes the line, with its trailing `'\n'`, using integer formatting only.
     ///
     /// Out-of-range quantised values are written as they are (e.g. `S=2.500`), so a bug
@@ -224,11 +226,7 @@ impl Record {
     /// optional. Anything else, including non-canonical numbers and out-of-range values, is
     /// an error: the host must not silently accept a corrupted RTT stream. Never panics.
     pub fn parse_line(s: &str) -> Result<Record, ParseError> {
-        let s = s
-            .strip_suffix("\r\n")
-            .or_else(|| s.strip_suffix('\n'))
-            .unwrap_or(s);
-        let mut tokens = s.split(' ');
+        let mut tokens = line::bare(s).split(' ');
         if tokens.next() != Some("F") {
             return Err(ParseError::NotARecord);
         }
@@ -361,26 +359,12 @@ fn tagged<'a>(
     key: &str,
     field: Field,
 ) -> Result<&'a str, ParseError> {
-    tokens
-        .next()
-        .and_then(|t| t.strip_prefix(key))
-        .ok_or(ParseError::MissingField(field))
+    line::tagged(tokens, key).ok_or(ParseError::MissingField(field))
 }
 
 /// A canonical unsigned decimal: digits only, no leading zero, no overflow.
 fn parse_u32(s: &str, field: Field) -> Result<u32, ParseError> {
-    let bad = ParseError::BadNumber(field);
-    if s.is_empty() || (s.len() > 1 && s.starts_with('0')) {
-        return Err(bad);
-    }
-    s.bytes().try_fold(0u32, |acc, c| {
-        if !c.is_ascii_digit() {
-            return Err(bad);
-        }
-        acc.checked_mul(10)
-            .and_then(|v| v.checked_add(u32::from(c - b'0')))
-            .ok_or(bad)
-    })
+    line::canonical_u32(s).ok_or(ParseError::BadNumber(field))
 }
 
 /// A fixed-point `int.frac` with exactly `digits` fractional digits, as an integer in units
@@ -778,6 +762,23 @@ mod tests {
                 check_canonical(s);
             }
         }
+    }
+
+    #[test]
+    fn the_alert_is_the_threat_centroid() {
+        use crate::model::visuomotor::Visuomotor;
+        let p = crate::model::params::Params::default();
+        for fields in [&[][..], &[(20u8, 0u32)], &[(20, 1000), (80, 3000)]] {
+            let vm = Visuomotor::from_fields(fields.iter().copied(), &p);
+            assert_eq!(vm.alert, vm.threat_x.is_some(), "{fields:?}");
+            let mut ahead = vm;
+            ahead.ahead(40, &p);
+            assert!(ahead.alert && ahead.threat_x.is_some());
+        }
+        let mut r = example();
+        assert!(r.alert());
+        r.threat_x_tenths = None;
+        assert!(!r.alert());
     }
 
     #[test]
