@@ -143,6 +143,19 @@ pub(super) struct Prepared {
 /// [`START_WALL_CLEARANCE_MM`] from the walls and [`START_SEPARATION_MM`] from each other,
 /// uniform headings. Fails (one line) when that many robots do not fit.
 pub fn start_poses(arena: &Arena, robots: usize, seed: u64) -> Result<Vec<Pose>> {
+    start_poses_among(arena, &[], robots, seed)
+}
+
+/// [`start_poses`] in an arena with `obstacles`: a position is also at least
+/// [`START_WALL_CLEARANCE_MM`] from every obstacle's surface (outside a robot–obstacle
+/// encounter, which counts as one with the wall). Without obstacles the same poses as
+/// [`start_poses`].
+pub fn start_poses_among(
+    arena: &Arena,
+    obstacles: &[Obstacle],
+    robots: usize,
+    seed: u64,
+) -> Result<Vec<Pose>> {
     let m = START_WALL_CLEARANCE_MM;
     let sep = START_SEPARATION_MM;
     let (w, h) = (arena.size_x_mm - 2.0 * m, arena.size_y_mm - 2.0 * m);
@@ -173,7 +186,8 @@ pub fn start_poses(arena: &Arena, robots: usize, seed: u64) -> Result<Vec<Pose>>
                 let (x, y) = (m + w * rng.uniform(), m + h * rng.uniform());
                 let heading = rng.range(-180.0, 180.0);
                 let p = Pose::new(x, y, heading);
-                if poses.iter().all(|q| q.distance_to(&p) >= sep) {
+                let clear = obstacles.iter().all(|o| o.surface_distance(x, y) >= m);
+                if clear && poses.iter().all(|q| q.distance_to(&p) >= sep) {
                     poses.push(p);
                     continue 'robot;
                 }

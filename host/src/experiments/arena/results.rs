@@ -105,7 +105,7 @@ pub struct Trial {
     pub robot_wall: TallyStats,
     /// Physical wall contacts (centre within one radius of a wall).
     pub wall_touches: u64,
-    /// Fraction of robot-frames spent pressed against a wall (body within
+    /// Fraction of robot-frames spent pressed against a wall or obstacle (body within
     /// [`WALL_CONTACT_SLACK_MM`] of it): time a robot is stuck rather than exploring.
     pub wall_contact_fraction: f64,
     /// Mean speed of the robots over the trial, mm/s (distance from frame to frame).
