@@ -559,3 +559,175 @@ fn frames_are_lost_at_their_rate_and_never_two_in_a_row() {
     let share = lost.iter().filter(|&&l| l).count() as f64 / 3000.0;
     assert!((share - 0.2 / 1.2).abs() < 0.02, "{share}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The suite.
+
+use alvs_host::experiments::robustness::{
+    Perturbation, RobustnessConfig, SuiteController, SLOW_SHARE,
+};
+use alvs_host::experiments::sweep::{self, Shard, Sweep};
+use alvs_host::experiments::Report;
+
+mod common;
+use common::{alvs, succeed, tmp};
+
+/// The reference and one perturbation, every controller, one seed, 6 simulated seconds.
+fn tiny_suite() -> RobustnessConfig {
+    RobustnessConfig {
+        seeds: vec![11],
+        perturbations: vec![Perturbation::None, Perturbation::DroppedFrames],
+        minutes: 0.1,
+        ..RobustnessConfig::default()
+    }
+}
+
+/// A tiny run gives one row per (perturbation, controller), in order, each with the arena's
+/// pooled counts, its speed against the cruise speed (flagged below 80 %), and the change from
+/// the reference; a 2-shard run merges into the same JSON.
+#[test]
+fn a_tiny_suite_gives_a_row_for_every_controller_and_shards_merge_to_it() {
+    let config = tiny_suite();
+    assert_eq!(config.trial_count(), 6);
+    let r = sweep::run_all(&config, 2, &|_| {}).unwrap();
+    let names: Vec<(&str, &str)> = r
+        .rows
+        .iter()
+        .map(|r| (r.perturbation.name(), r.controller.name()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("none", "alvs"),
+            ("none", "paper"),
+            ("none", "lgmd2"),
+            ("dropped-frames", "alvs"),
+            ("dropped-frames", "paper"),
+            ("dropped-frames", "lgmd2"),
+        ]
+    );
+    for row in &r.rows {
+        let mine: Vec<_> = r
+            .trials
+            .iter()
+            .filter(|t| t.perturbation == row.perturbation && t.controller == row.controller)
+            .collect();
+        assert_eq!(mine.len(), 1);
+        let t = &mine[0].trial;
+        assert_eq!((t.seed, t.robots, t.frames), (11, 3, 180));
+        assert_eq!(t.background, "fu2019");
+        assert_eq!(row.encounters, t.encounters);
+        assert_eq!(row.success_rate, t.success_rate);
+        assert!(row.mean_speed_mm_s > 0.0);
+        assert_eq!(row.cruise_mm_s, 100.0);
+        assert_eq!(
+            row.slow,
+            row.mean_speed_mm_s < SLOW_SHARE * 100.0,
+            "{row:?}"
+        );
+        let base = r
+            .rows
+            .iter()
+            .find(|b| b.perturbation == Perturbation::None && b.controller == row.controller)
+            .unwrap();
+        let change = row.mean_speed_mm_s / base.mean_speed_mm_s - 1.0;
+        assert!((row.speed_change.unwrap() - change).abs() < 1e-12);
+    }
+    let table = r.table();
+    for c in SuiteController::ALL {
+        assert!(table.contains(c.name()), "{table}");
+    }
+    assert_eq!(
+        table.contains("SLOW"),
+        r.rows.iter().any(|r| r.slow),
+        "{table}"
+    );
+    let json = r.json();
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(6));
+    assert_eq!(json["trials"].as_array().map(Vec::len), Some(6));
+
+    let dir = tmp("robustness-shards");
+    let files: Vec<_> = (1..=2)
+        .map(|index| {
+            let shard = Shard { index, count: 2 };
+            let v = sweep::run_shard(&config, &[], shard, 1, &|_| {}).unwrap();
+            let path = dir.join(format!("{index}.json"));
+            std::fs::write(&path, serde_json::to_string(&v).unwrap()).unwrap();
+            sweep::read(&path).unwrap()
+        })
+        .collect();
+    let merged = sweep::merge(&config, &files).unwrap();
+    let strip = |mut v: serde_json::Value| {
+        v["wall_clock_s"] = 0.into();
+        v["jobs"] = 0.into();
+        for t in v["trials"].as_array_mut().unwrap() {
+            t["trial"]["wall_clock_s"] = 0.into();
+        }
+        v
+    };
+    assert_eq!(strip(merged.json()), strip(json));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The command line: bad input is one line; a sharded run merges with `alvs merge` into the
+/// table of that perturbation and controller.
+#[test]
+fn the_command_refuses_bad_input_in_one_line_and_its_shards_merge() {
+    for (args, expect) in [
+        (&["--perturbation", "fog"][..], "possible values"),
+        (&["--minutes", "0"][..], "--minutes"),
+        (&["--robots", "40"][..], "cannot place 40 robots"),
+        (&["--controller", "swarm"][..], "possible values"),
+    ] {
+        let out = alvs().arg("robustness").args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+    }
+    let dir = tmp("robustness-cli");
+    let args = [
+        "robustness",
+        "--perturbation",
+        "lighting",
+        "--controller",
+        "lgmd2",
+        "--seed",
+        "11",
+        "--seed",
+        "12",
+        "--minutes",
+        "0.05",
+        "--jobs",
+        "1",
+    ];
+    let shards: Vec<_> = (1..=2)
+        .map(|i| {
+            let path = dir.join(format!("{i}.json"));
+            succeed(
+                alvs()
+                    .args(args)
+                    .args(["--shard", &format!("{i}/2"), "--json"])
+                    .arg(&path),
+            );
+            path
+        })
+        .collect();
+    let out = succeed(
+        alvs()
+            .arg("merge")
+            .args(&shards)
+            .arg("--png")
+            .arg(dir.join("png")),
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("seeds 11,12"), "{table}");
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| l.starts_with("lighting "))
+        .collect();
+    assert_eq!(rows.len(), 2, "the row and the legend: {table}");
+    assert!(rows[0].contains("lgmd2"), "{table}");
+    assert!(dir.join("png/summary.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

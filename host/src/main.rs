@@ -5,8 +5,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use alvs_host::arena::Kind;
+use alvs_host::arena::{BuiltinWorld, Kind};
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
+use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
 use alvs_host::experiments::sweep::Shard;
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
@@ -104,6 +105,18 @@ enum Cmd {
     /// The simulated trail is drawn and extracted exactly as the tracker's snapshots are
     /// (`cargo alvs recordings`). Pictures: real and simulated path side by side per run.
     Validate(ValidateArgs),
+    /// The robustness suite (issue 29): every controller (alvs, paper, lgmd2) in the validated
+    /// world under each perturbation a real lab or robot brings (textured and shaded floor,
+    /// camera height +-5 mm and pitch +-2 deg, a lighting gradient, a 5 % weaker motor, the
+    /// firmware's odometry heading, lost frames), over seeds 11-20 by default.
+    ///
+    /// One trial is the arena experiment's (its robots, counting and noise) with one
+    /// perturbation, one controller and one seed. One row per (perturbation, controller): the
+    /// success rate with its encounters (seeds pooled) and one seed's lowest-highest, the mean
+    /// speed and its share of the cruise speed (SLOW below 80 %), the time pressed against a
+    /// wall or obstacle, and the change from the unperturbed row. docs/robustness.md gives
+    /// each perturbation's magnitude and its source.
+    Robustness(RobustnessArgs),
     /// The real Colias recordings (fuqinbing/LGMD2-open-source, issue 29): extract the arena
     /// and the tracks from the tracker's snapshots, or show the committed statistics.
     Recordings {
@@ -122,7 +135,7 @@ enum Cmd {
     Merge(shards::MergeArgs),
 }
 
-/// The simulated worlds `validate` can drive in.
+/// The simulated worlds `validate` and `robustness` can drive in.
 #[derive(Clone, Copy, ValueEnum)]
 enum WorldChoice {
     /// The recorded arena's replica (`arena::replica`): its size, low ribbed walls, dark
@@ -130,6 +143,15 @@ enum WorldChoice {
     Fu2019,
     /// The built-in 1200 x 900 mm arena with 250 mm clutter walls, no obstacles, rigid walls.
     Lab,
+}
+
+impl WorldChoice {
+    fn builtin(self) -> BuiltinWorld {
+        match self {
+            WorldChoice::Fu2019 => BuiltinWorld::Fu2019,
+            WorldChoice::Lab => BuiltinWorld::Lab,
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -150,6 +172,77 @@ struct ValidateArgs {
     /// Where the pictures go.
     #[arg(long, value_name = "DIR", default_value = "out/validate")]
     png: PathBuf,
+}
+
+#[derive(clap::Args)]
+struct RobustnessArgs {
+    /// The world the robots drive in.
+    #[arg(long, value_enum, default_value = "fu2019")]
+    world: WorldChoice,
+    /// Seeds (repeatable); every perturbation and controller runs each. Default: 11-20 (the
+    /// report seeds; tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Perturbation to run (repeatable). Default: all, `none` (the reference) first.
+    #[arg(long = "perturbation", value_name = "NAME", value_parser = perturbation_parser())]
+    perturbations: Vec<Perturbation>,
+    /// Controller to run (repeatable). Default: alvs, paper and lgmd2.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<SuiteArg>,
+    /// Simulated minutes per trial (30 camera frames per second).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena, all running the trial's controller.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    robots: usize,
+    /// Trials run in parallel on this many threads (default: the available parallelism);
+    /// results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order:
+    /// perturbation, controller, seed) is shard (k mod N) + 1's. Its trials go to --json PATH
+    /// as a shard file; `alvs merge` pools the N files (docs/sweeps.md).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Write the rows and trials as JSON (with --shard: the shard file).
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where summary.png goes.
+    #[arg(long, default_value = "out/robustness", value_name = "DIR")]
+    png: PathBuf,
+}
+
+/// The controllers the robustness suite compares.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SuiteArg {
+    /// ALVS, the default model (--model alvs).
+    Alvs,
+    /// ALVS with the paper's model exactly (--model paper).
+    Paper,
+    /// The LGMD2 baseline.
+    Lgmd2,
+}
+
+impl SuiteArg {
+    fn controller(self) -> SuiteController {
+        match self {
+            SuiteArg::Alvs => SuiteController::Alvs,
+            SuiteArg::Paper => SuiteController::Paper,
+            SuiteArg::Lgmd2 => SuiteController::Lgmd2,
+        }
+    }
+}
+
+/// `--perturbation NAME`: one of the suite's names (listed in the help and in errors).
+fn perturbation_parser() -> impl clap::builder::TypedValueParser<Value = Perturbation> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Perturbation::ALL.map(Perturbation::name))
+        .try_map(|s| Perturbation::from_name(&s).map_err(|e| e.to_string()))
 }
 
 #[derive(Subcommand)]
@@ -693,6 +786,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Swarm(a) => run_swarm(a),
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
+        Cmd::Robustness(a) => run_robustness(a),
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
@@ -813,18 +907,15 @@ impl Outputs<'_> {
 
 fn run_validate(a: ValidateArgs) -> Result<()> {
     use alvs_host::experiments::validate::{self, ValidateConfig};
-    let (world, world_label) = match a.world {
-        WorldChoice::Fu2019 => (alvs_host::arena::replica::world(), "fu2019"),
-        WorldChoice::Lab => (alvs_host::arena::World::default(), "lab"),
-    };
+    let world = a.world.builtin();
     let seeds = if a.seeds.is_empty() {
         vec![11, 12, 13]
     } else {
         a.seeds
     };
     let config = ValidateConfig {
-        world,
-        world_label: world_label.into(),
+        world: world.world(),
+        world_label: world.label().into(),
         seeds,
         jobs: a.jobs,
     };
@@ -960,6 +1051,42 @@ fn run_arena(a: ArenaArgs) -> Result<()> {
         trace: a.trace.as_deref(),
     };
     shards::execute(&config, jobs, a.shard, &out, arena::total_frames(&config))
+}
+
+fn robustness_config(a: &RobustnessArgs) -> Result<RobustnessConfig> {
+    let d = RobustnessConfig::default();
+    Ok(RobustnessConfig {
+        world: a.world.builtin(),
+        seeds: if a.seeds.is_empty() {
+            d.seeds
+        } else {
+            a.seeds.clone()
+        },
+        perturbations: if a.perturbations.is_empty() {
+            d.perturbations
+        } else {
+            a.perturbations.clone()
+        },
+        controllers: if a.controllers.is_empty() {
+            d.controllers
+        } else {
+            a.controllers.iter().map(|c| c.controller()).collect()
+        },
+        robots: a.robots,
+        minutes: a.minutes,
+    })
+}
+
+fn run_robustness(a: RobustnessArgs) -> Result<()> {
+    let config = robustness_config(&a)?;
+    config.validate()?;
+    let jobs = jobs(a.jobs)?;
+    let out = Outputs {
+        png: &a.png,
+        json: a.json.as_deref(),
+        trace: None,
+    };
+    shards::execute(&config, jobs, a.shard, &out, config.total_frames())
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {

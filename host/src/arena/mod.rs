@@ -16,6 +16,7 @@
 //! | seeded random numbers | [`rng`] |
 //! | the controllers (ALVS, swarm, LGMD2, scripted) behind one trait | [`controller`] |
 //! | the closed loop: render, control, physics per camera frame | [`sim`] |
+//! | the built-in worlds a command names (`--world`) | [`worlds`] |
 //!
 //! A closed-loop frame of robot `i` is: `Camera::capture` its frame from `Physics::poses`, run
 //! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
@@ -35,6 +36,7 @@ pub mod sim;
 pub mod texture;
 pub mod topdown;
 pub mod world;
+pub mod worlds;
 
 pub use contacts::{
     ContactCounts, ContactEvent, ContactTracker, EventKind, Other, SurfaceContact, Tally,
@@ -52,6 +54,7 @@ pub use topdown::TopDown;
 pub use world::{
     Arena, FloorShade, GreyImage, Obstacle, Pose, RobotPattern, Room, WallTexture, World,
 };
+pub use worlds::BuiltinWorld;
 
 /// A robot's motors, gyro and camera noise: realistic (default motor lag and noise, default
 /// gyro drift, [`SensorNoise::typical`]) or, with `realistic` false, ideal.

@@ -110,10 +110,7 @@ impl ArenaConfig {
         let starts = start_poses(&arena, self.robots, self.seed)?;
         let (motor, gyro, mut noise) = crate::arena::robot_noise(self.noise);
         noise.exposure = self.exposure;
-        let root = Rng::new(self.seed).fork(CONTROLLER_STREAM);
-        let controller_seeds = (0..self.robots as u64)
-            .map(|i| root.fork(i).next_u64())
-            .collect();
+        let controller_seeds = controller_seeds(self.seed, self.robots);
         Ok(Prepared {
             backgrounds,
             controllers,
@@ -137,6 +134,15 @@ pub(super) struct Prepared {
     pub(super) gyro: GyroParams,
     pub(super) noise: SensorNoise,
     pub(super) frames: u64,
+}
+
+/// The seeds of `robots` robots' controllers (LGMD2's random turns) in a run of `seed`: robot
+/// `i` takes sub-stream `i` of the seed's controller stream.
+pub fn controller_seeds(seed: u64, robots: usize) -> Vec<u64> {
+    let root = Rng::new(seed).fork(CONTROLLER_STREAM);
+    (0..robots as u64)
+        .map(|i| root.fork(i).next_u64())
+        .collect()
 }
 
 /// `robots` start poses in `arena` for `seed`: uniform positions at least

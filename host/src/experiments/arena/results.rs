@@ -195,7 +195,7 @@ pub struct ArenaReport {
 }
 
 /// Pools the trials of one controller.
-pub(super) fn summarise(controller: &'static str, trials: &[&Trial]) -> ControllerSummary {
+pub(crate) fn summarise(controller: &'static str, trials: &[&Trial]) -> ControllerSummary {
     let minutes: f64 = trials.iter().map(|t| t.minutes).sum();
     let (mut rr, mut rw) = (Tally::default(), Tally::default());
     let mut state_frames: BTreeMap<String, u64> = BTreeMap::new();
@@ -251,7 +251,7 @@ pub(super) fn summarise(controller: &'static str, trials: &[&Trial]) -> Controll
     }
 }
 
-pub(super) fn mean(v: impl Iterator<Item = f64>) -> f64 {
+pub(crate) fn mean(v: impl Iterator<Item = f64>) -> f64 {
     let (n, sum) = v.fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
     if n == 0 {
         0.0
