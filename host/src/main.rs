@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use alvs_host::arena::{BuiltinWorld, Kind};
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
-use alvs_host::experiments::sweep::Shard;
+use alvs_host::experiments::sweep::{Shard, Sweep};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
@@ -189,26 +189,10 @@ struct RobustnessArgs {
     /// Controller to run (repeatable). Default: alvs, paper and lgmd2.
     #[arg(long = "controller", value_enum, value_name = "NAME")]
     controllers: Vec<SuiteArg>,
-    /// Simulated minutes per trial (30 camera frames per second).
-    #[arg(
-        long,
-        default_value_t = 10.0,
-        allow_negative_numbers = true,
-        value_name = "M"
-    )]
-    minutes: f64,
-    /// Robots in the arena, all running the trial's controller.
-    #[arg(long, default_value_t = 3, value_name = "N")]
-    robots: usize,
-    /// Trials run in parallel on this many threads (default: the available parallelism);
-    /// results do not depend on it.
-    #[arg(long, value_name = "J")]
-    jobs: Option<usize>,
-    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order:
-    /// perturbation, controller, seed) is shard (k mod N) + 1's. Its trials go to --json PATH
-    /// as a shard file; `alvs merge` pools the N files (docs/sweeps.md).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<Shard>,
+    #[command(flatten)]
+    trial: TrialArgs,
+    #[command(flatten)]
+    sweep: SweepArgs,
     /// Write the rows and trials as JSON (with --shard: the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
@@ -270,6 +254,44 @@ enum RecordingsCmd {
     },
 }
 
+/// How long a multi-robot trial runs and with how many robots (`arena`, `robustness`).
+#[derive(clap::Args)]
+struct TrialArgs {
+    /// Simulated minutes per trial (30 camera frames per second).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena, all running the trial's controller.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    robots: usize,
+}
+
+/// How a sweep's trials run: on how many threads, and which shard of them.
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// Independent trials run in parallel on this many threads (default: the available
+    /// parallelism); results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
+    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
+    /// the N files into the whole run's report (docs/sweeps.md).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+}
+
+impl SweepArgs {
+    /// Runs `config` on these threads, whole or this shard ([`shards::execute`]); `frames` is
+    /// the whole run's camera frames (for the progress bar).
+    fn execute<S: Sweep>(&self, config: &S, out: &Outputs, frames: u64) -> Result<()> {
+        shards::execute(config, jobs(self.jobs)?, self.shard, out, frames)
+    }
+}
+
 /// Options every experiment has.
 #[derive(clap::Args)]
 struct CommonArgs {
@@ -280,15 +302,8 @@ struct CommonArgs {
     /// outdoor:SEED, or a PNG/JPEG picture's path.
     #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
     background: String,
-    /// Independent trials run in parallel on this many threads (default: the available
-    /// parallelism); results do not depend on it.
-    #[arg(long, value_name = "J")]
-    jobs: Option<usize>,
-    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
-    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
-    /// the N files into the whole run's report (docs/sweeps.md).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<Shard>,
+    #[command(flatten)]
+    sweep: SweepArgs,
     /// Write the results as JSON (with --shard: the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
@@ -339,10 +354,6 @@ fn exposure_fraction(s: &str) -> std::result::Result<f32, String> {
 }
 
 impl CommonArgs {
-    fn jobs(&self) -> Result<usize> {
-        jobs(self.jobs)
-    }
-
     fn outputs<'a>(&'a self, png: &'a Path, trace: Option<&'a Path>) -> Outputs<'a> {
         Outputs {
             png,
@@ -458,17 +469,8 @@ impl ControllerArg {
 
 #[derive(clap::Args)]
 struct ArenaArgs {
-    /// Simulated minutes per trial (30 camera frames per second).
-    #[arg(
-        long,
-        default_value_t = 10.0,
-        allow_negative_numbers = true,
-        value_name = "M"
-    )]
-    minutes: f64,
-    /// Robots in the arena, all running the trial's controller.
-    #[arg(long, default_value_t = 3, value_name = "N")]
-    robots: usize,
+    #[command(flatten)]
+    trial: TrialArgs,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
     /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
     /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
@@ -481,15 +483,8 @@ struct ArenaArgs {
     /// Seed of everything random: start poses, motor, gyro and camera noise, LGMD2's turns.
     #[arg(long, default_value_t = 1, value_name = "S")]
     seed: u64,
-    /// Trials run in parallel on this many threads (default: the available parallelism);
-    /// results do not depend on it.
-    #[arg(long, value_name = "J")]
-    jobs: Option<usize>,
-    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
-    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
-    /// the N files into the whole run's report (docs/sweeps.md).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<Shard>,
+    #[command(flatten)]
+    sweep: SweepArgs,
     /// Write the results as JSON: {"alvs":{...},"lgmd2":{...},"trials":[...]} (with --shard:
     /// the shard file).
     #[arg(long, value_name = "PATH")]
@@ -945,9 +940,8 @@ fn stimuli_config(a: &StimuliArgs) -> Result<stimuli::StimuliConfig> {
 fn run_stimuli(a: StimuliArgs) -> Result<()> {
     let config = stimuli_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    shards::execute(&config, jobs, a.common.shard, &out, 0)
+    a.common.sweep.execute(&config, &out, 0)
 }
 
 fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
@@ -968,9 +962,8 @@ fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
 fn run_evasion(a: EvasionArgs) -> Result<()> {
     let config = evasion_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig> {
@@ -991,9 +984,8 @@ fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig>
 fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
     let config = two_threats_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
@@ -1013,15 +1005,14 @@ fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
 fn run_swarm(a: SwarmArgs) -> Result<()> {
     let config = swarm_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
     Ok(ArenaConfig {
-        robots: a.robots,
-        minutes: a.minutes,
+        robots: a.trial.robots,
+        minutes: a.trial.minutes,
         backgrounds: if a.backgrounds.is_empty() {
             DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
         } else {
@@ -1043,14 +1034,13 @@ fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
 
 fn run_arena(a: ArenaArgs) -> Result<()> {
     let config = arena_config(&a)?;
-    let jobs = jobs(a.jobs)?;
     config.validate()?;
     let out = Outputs {
         png: &a.png,
         json: a.json.as_deref(),
         trace: a.trace.as_deref(),
     };
-    shards::execute(&config, jobs, a.shard, &out, arena::total_frames(&config))
+    a.sweep.execute(&config, &out, arena::total_frames(&config))
 }
 
 fn robustness_config(a: &RobustnessArgs) -> Result<RobustnessConfig> {
@@ -1072,21 +1062,20 @@ fn robustness_config(a: &RobustnessArgs) -> Result<RobustnessConfig> {
         } else {
             a.controllers.iter().map(|c| c.controller()).collect()
         },
-        robots: a.robots,
-        minutes: a.minutes,
+        robots: a.trial.robots,
+        minutes: a.trial.minutes,
     })
 }
 
 fn run_robustness(a: RobustnessArgs) -> Result<()> {
     let config = robustness_config(&a)?;
     config.validate()?;
-    let jobs = jobs(a.jobs)?;
     let out = Outputs {
         png: &a.png,
         json: a.json.as_deref(),
         trace: None,
     };
-    shards::execute(&config, jobs, a.shard, &out, config.total_frames())
+    a.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {
