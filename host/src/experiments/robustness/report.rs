@@ -192,29 +192,70 @@ impl Report for RobustnessReport {
         );
         let _ = writeln!(
             s,
-            "success: encounters without a collision / encounters, the seeds pooled (the arena's \
-             counting); seeds: one seed's lowest-highest success; speed: mean robot speed (sd over \
-             seeds) and % of cruise, SLOW below {:.0} %; at wall: % of robot time pressed against \
-             a wall or obstacle (mean, one seed's highest); change: against the same \
-             controller's `none` row",
+            "success: encounters without a collision / encounters, seeds pooled (the arena's \
+             counting); range: one seed's lowest-highest\n\
+             speed: mean robot speed (sd over seeds) and its share of the cruise speed, SLOW \
+             below {:.0} %\n\
+             at wall: share of robot time pressed against a wall or obstacle (mean over seeds; \
+             one seed's highest)\n\
+             change: from the same controller's unperturbed (none) row",
             100.0 * SLOW_SHARE
         );
         let _ = writeln!(s);
-        let head = format!(
-            "{:<16} {:<10} {:>8} {:>6} {:>13} {:>8}   {:>13} {:>6} {:>7} {:>6}  {:>12}  {:<4}",
-            "perturbation",
-            "controller",
-            "success",
-            "enc",
-            "seeds",
-            "change",
-            "speed mm/s",
-            "cruise",
-            "change",
-            "wall %",
-            "(seed max)",
-            "flag"
-        );
+        // (label, width) of each column, and the groups above them
+        const COLUMNS: [(&str, usize); 13] = [
+            ("perturbation", 16),
+            ("controller", 10),
+            ("rate", 8),
+            ("enc", 6),
+            ("range", 12),
+            ("change", 7),
+            ("mm/s", 7),
+            ("(sd)", 6),
+            ("cruise", 6),
+            ("change", 7),
+            ("mean", 6),
+            ("max", 6),
+            ("flag", 4),
+        ];
+        // more space after the success, the speed and the wall columns
+        let gap = |k: usize| match k {
+            5 | 9 => 3,
+            11 => 2,
+            _ => 1,
+        };
+        let line = |cells: [String; 13]| -> String {
+            let mut l = String::new();
+            for (k, (cell, (_, w))) in cells.iter().zip(COLUMNS).enumerate() {
+                if k < 2 || k == 12 {
+                    let _ = write!(l, "{cell:<w$}");
+                } else {
+                    let _ = write!(l, "{cell:>w$}");
+                }
+                l.push_str(&" ".repeat(gap(k)));
+            }
+            l.trim_end().to_string()
+        };
+        let head = line(COLUMNS.map(|(label, _)| label.to_string()));
+        let start = |k: usize| -> usize {
+            COLUMNS[..k]
+                .iter()
+                .enumerate()
+                .map(|(j, (_, w))| w + gap(j))
+                .sum()
+        };
+        let mut groups = String::new();
+        for (label, from, to) in [
+            (" success ", 2, 5),
+            (" speed ", 6, 9),
+            (" at wall % ", 10, 11),
+        ] {
+            let (a, b) = (start(from), start(to) + COLUMNS[to].1);
+            groups.push_str(&" ".repeat(a.saturating_sub(groups.len())));
+            let w = b - a;
+            let _ = write!(groups, "{label:-^w$}");
+        }
+        let _ = writeln!(s, "{groups}");
         let _ = writeln!(s, "{head}");
         let _ = writeln!(s, "{}", "-".repeat(head.len()));
         let mut last = None;
@@ -223,34 +264,29 @@ impl Report for RobustnessReport {
                 let _ = writeln!(s);
             }
             last = Some(r.perturbation);
-            let seeds = r.success_range.map_or("n/a".into(), |(lo, hi)| {
-                format!("{:.1}-{:.1}", 100.0 * lo, 100.0 * hi)
-            });
-            let change = r
-                .success_change_pp
-                .filter(|_| r.perturbation != Perturbation::None)
-                .map_or("".into(), |d| format!("{d:+.1}"));
-            let speed_change = r
-                .speed_change
-                .filter(|_| r.perturbation != Perturbation::None)
-                .map_or("".into(), |d| format!("{:+.0} %", 100.0 * d));
-            let _ = writeln!(
-                s,
-                "{:<16} {:<10} {:>8} {:>6} {:>13} {:>8}   {:>6.1} ({:>4.1}) {:>5.0}% {:>7} {:>6.1}  {:>12.1}  {:<4}",
-                r.perturbation.name(),
-                r.controller.name(),
+            let perturbed = r.perturbation != Perturbation::None;
+            let cells = [
+                r.perturbation.name().to_string(),
+                r.controller.name().to_string(),
                 pct(r.success_rate),
-                r.encounters,
-                seeds,
-                change,
-                r.mean_speed_mm_s,
-                r.speed_sd_mm_s,
-                100.0 * r.speed_share,
-                speed_change,
-                100.0 * r.wall_contact_fraction,
-                100.0 * r.wall_contact_range.1,
-                if r.slow { "SLOW" } else { "" }
-            );
+                r.encounters.to_string(),
+                r.success_range.map_or("n/a".into(), |(lo, hi)| {
+                    format!("{:.1}-{:.1}", 100.0 * lo, 100.0 * hi)
+                }),
+                r.success_change_pp
+                    .filter(|_| perturbed)
+                    .map_or("".into(), |d| format!("{d:+.1}")),
+                format!("{:.1}", r.mean_speed_mm_s),
+                format!("({:.1})", r.speed_sd_mm_s),
+                format!("{:.0} %", 100.0 * r.speed_share),
+                r.speed_change
+                    .filter(|_| perturbed)
+                    .map_or("".into(), |d| format!("{:+.0} %", 100.0 * d)),
+                format!("{:.1}", 100.0 * r.wall_contact_fraction),
+                format!("{:.1}", 100.0 * r.wall_contact_range.1),
+                (if r.slow { "SLOW" } else { "" }).to_string(),
+            ];
+            let _ = writeln!(s, "{}", line(cells));
         }
         let _ = writeln!(s);
         for p in super::unique(&c.perturbations) {
