@@ -5,9 +5,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use alvs_host::arena::Kind;
+use alvs_host::arena::{BuiltinWorld, Kind};
 use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
-use alvs_host::experiments::sweep::Shard;
+use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
+use alvs_host::experiments::sweep::{Shard, Sweep};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
@@ -105,6 +106,18 @@ enum Cmd {
     /// The simulated trail is drawn and extracted exactly as the tracker's snapshots are
     /// (`cargo alvs recordings`). Pictures: real and simulated path side by side per run.
     Validate(ValidateArgs),
+    /// The robustness suite (issue 29): every controller (alvs, paper, lgmd2) in the validated
+    /// world under each perturbation a real lab or robot brings (textured and shaded floor,
+    /// camera height +-5 mm and pitch +-2 deg, a lighting gradient, a 5 % weaker motor, the
+    /// firmware's odometry heading, lost frames), over seeds 11-20 by default.
+    ///
+    /// One trial is the arena experiment's (its robots, counting and noise) with one
+    /// perturbation, one controller and one seed. One row per (perturbation, controller): the
+    /// success rate with its encounters (seeds pooled) and one seed's lowest-highest, the mean
+    /// speed and its share of the cruise speed (SLOW below 80 %), the time pressed against a
+    /// wall or obstacle, and the change from the unperturbed row. docs/robustness.md gives
+    /// each perturbation's magnitude and its source.
+    Robustness(RobustnessArgs),
     /// The real Colias recordings (fuqinbing/LGMD2-open-source, issue 29): extract the arena
     /// and the tracks from the tracker's snapshots, or show the committed statistics.
     Recordings {
@@ -129,7 +142,7 @@ enum Cmd {
     Log(log_command::LogArgs),
 }
 
-/// The simulated worlds `validate` can drive in.
+/// The simulated worlds `validate` and `robustness` can drive in.
 #[derive(Clone, Copy, ValueEnum)]
 enum WorldChoice {
     /// The recorded arena's replica (`arena::replica`): its size, low ribbed walls, dark
@@ -137,6 +150,15 @@ enum WorldChoice {
     Fu2019,
     /// The built-in 1200 x 900 mm arena with 250 mm clutter walls, no obstacles, rigid walls.
     Lab,
+}
+
+impl WorldChoice {
+    fn builtin(self) -> BuiltinWorld {
+        match self {
+            WorldChoice::Fu2019 => BuiltinWorld::Fu2019,
+            WorldChoice::Lab => BuiltinWorld::Lab,
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -189,6 +211,61 @@ enum RunsArg {
     HeldOut,
 }
 
+#[derive(clap::Args)]
+struct RobustnessArgs {
+    /// The world the robots drive in.
+    #[arg(long, value_enum, default_value = "fu2019")]
+    world: WorldChoice,
+    /// Seeds (repeatable); every perturbation and controller runs each. Default: 11-20 (the
+    /// report seeds; tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Perturbation to run (repeatable). Default: all, `none` (the reference) first.
+    #[arg(long = "perturbation", value_name = "NAME", value_parser = perturbation_parser())]
+    perturbations: Vec<Perturbation>,
+    /// Controller to run (repeatable). Default: alvs, paper and lgmd2.
+    #[arg(long = "controller", value_enum, value_name = "NAME")]
+    controllers: Vec<SuiteArg>,
+    #[command(flatten)]
+    trial: TrialArgs,
+    #[command(flatten)]
+    sweep: SweepArgs,
+    /// Write the rows and trials as JSON (with --shard: the shard file).
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where summary.png goes.
+    #[arg(long, default_value = "out/robustness", value_name = "DIR")]
+    png: PathBuf,
+}
+
+/// The controllers the robustness suite compares.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SuiteArg {
+    /// ALVS, the default model (--model alvs).
+    Alvs,
+    /// ALVS with the paper's model exactly (--model paper).
+    Paper,
+    /// The LGMD2 baseline.
+    Lgmd2,
+}
+
+impl SuiteArg {
+    fn controller(self) -> SuiteController {
+        match self {
+            SuiteArg::Alvs => SuiteController::Alvs,
+            SuiteArg::Paper => SuiteController::Paper,
+            SuiteArg::Lgmd2 => SuiteController::Lgmd2,
+        }
+    }
+}
+
+/// `--perturbation NAME`: one of the suite's names (listed in the help and in errors).
+fn perturbation_parser() -> impl clap::builder::TypedValueParser<Value = Perturbation> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Perturbation::ALL.map(Perturbation::name))
+        .try_map(|s| Perturbation::from_name(&s).map_err(|e| e.to_string()))
+}
+
 #[derive(Subcommand)]
 enum RecordingsCmd {
     /// Read the 7 runs' snapshot PNGs from a clone of LGMD2-open-source and write the arena's
@@ -214,6 +291,44 @@ enum RecordingsCmd {
     },
 }
 
+/// How long a multi-robot trial runs and with how many robots (`arena`, `robustness`).
+#[derive(clap::Args)]
+struct TrialArgs {
+    /// Simulated minutes per trial (30 camera frames per second).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena, all running the trial's controller.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    robots: usize,
+}
+
+/// How a sweep's trials run: on how many threads, and which shard of them.
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// Independent trials run in parallel on this many threads (default: the available
+    /// parallelism); results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
+    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
+    /// the N files into the whole run's report (docs/sweeps.md).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+}
+
+impl SweepArgs {
+    /// Runs `config` on these threads, whole or this shard ([`shards::execute`]); `frames` is
+    /// the whole run's camera frames (for the progress bar).
+    fn execute<S: Sweep>(&self, config: &S, out: &Outputs, frames: u64) -> Result<()> {
+        shards::execute(config, jobs(self.jobs)?, self.shard, out, frames)
+    }
+}
+
 /// Options every experiment has.
 #[derive(clap::Args)]
 struct CommonArgs {
@@ -224,15 +339,8 @@ struct CommonArgs {
     /// outdoor:SEED, or a PNG/JPEG picture's path.
     #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
     background: String,
-    /// Independent trials run in parallel on this many threads (default: the available
-    /// parallelism); results do not depend on it.
-    #[arg(long, value_name = "J")]
-    jobs: Option<usize>,
-    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
-    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
-    /// the N files into the whole run's report (docs/sweeps.md).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<Shard>,
+    #[command(flatten)]
+    sweep: SweepArgs,
     /// Write the results as JSON (with --shard: the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
@@ -283,10 +391,6 @@ fn exposure_fraction(s: &str) -> std::result::Result<f32, String> {
 }
 
 impl CommonArgs {
-    fn jobs(&self) -> Result<usize> {
-        jobs(self.jobs)
-    }
-
     fn outputs<'a>(&'a self, png: &'a Path, trace: Option<&'a Path>) -> Outputs<'a> {
         Outputs {
             png,
@@ -402,17 +506,8 @@ impl ControllerArg {
 
 #[derive(clap::Args)]
 struct ArenaArgs {
-    /// Simulated minutes per trial (30 camera frames per second).
-    #[arg(
-        long,
-        default_value_t = 10.0,
-        allow_negative_numbers = true,
-        value_name = "M"
-    )]
-    minutes: f64,
-    /// Robots in the arena, all running the trial's controller.
-    #[arg(long, default_value_t = 3, value_name = "N")]
-    robots: usize,
+    #[command(flatten)]
+    trial: TrialArgs,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
     /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
     /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
@@ -425,15 +520,8 @@ struct ArenaArgs {
     /// Seed of everything random: start poses, motor, gyro and camera noise, LGMD2's turns.
     #[arg(long, default_value_t = 1, value_name = "S")]
     seed: u64,
-    /// Trials run in parallel on this many threads (default: the available parallelism);
-    /// results do not depend on it.
-    #[arg(long, value_name = "J")]
-    jobs: Option<usize>,
-    /// Run only shard I of N (1 <= I <= N) of the trials: trial k (from 0, in plan order) is
-    /// shard (k mod N) + 1's. Its trials go to --json PATH as a shard file; `alvs merge` pools
-    /// the N files into the whole run's report (docs/sweeps.md).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<Shard>,
+    #[command(flatten)]
+    sweep: SweepArgs,
     /// Write the results as JSON: {"alvs":{...},"lgmd2":{...},"trials":[...]} (with --shard:
     /// the shard file).
     #[arg(long, value_name = "PATH")]
@@ -733,6 +821,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Swarm(a) => run_swarm(a),
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
+        Cmd::Robustness(a) => run_robustness(a),
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
@@ -873,10 +962,8 @@ impl Outputs<'_> {
 
 fn run_validate(a: ValidateArgs) -> Result<()> {
     use alvs_host::experiments::validate::{self, ValidateConfig};
-    let (mut world, world_label) = match a.world {
-        WorldChoice::Fu2019 => (alvs_host::arena::replica::world(), "fu2019"),
-        WorldChoice::Lab => (alvs_host::arena::World::default(), "lab"),
-    };
+    let builtin = a.world.builtin();
+    let (mut world, world_label) = (builtin.world(), builtin.label());
     if let Some(k) = a.slip_yaw {
         if !(k.is_finite() && k >= 0.0) {
             anyhow::bail!("--slip-yaw {k}: must be a finite number >= 0");
@@ -957,9 +1044,8 @@ fn stimuli_config(a: &StimuliArgs) -> Result<stimuli::StimuliConfig> {
 fn run_stimuli(a: StimuliArgs) -> Result<()> {
     let config = stimuli_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    shards::execute(&config, jobs, a.common.shard, &out, 0)
+    a.common.sweep.execute(&config, &out, 0)
 }
 
 fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
@@ -980,9 +1066,8 @@ fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
 fn run_evasion(a: EvasionArgs) -> Result<()> {
     let config = evasion_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig> {
@@ -1003,9 +1088,8 @@ fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig>
 fn run_two_threats(a: TwoThreatArgs) -> Result<()> {
     let config = two_threats_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, a.trace.as_deref());
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
@@ -1025,15 +1109,14 @@ fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
 fn run_swarm(a: SwarmArgs) -> Result<()> {
     let config = swarm_config(&a)?;
     config.validate()?;
-    let jobs = a.common.jobs()?;
     let out = a.common.outputs(&a.png, None);
-    shards::execute(&config, jobs, a.common.shard, &out, config.total_frames())
+    a.common.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
     Ok(ArenaConfig {
-        robots: a.robots,
-        minutes: a.minutes,
+        robots: a.trial.robots,
+        minutes: a.trial.minutes,
         backgrounds: if a.backgrounds.is_empty() {
             DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
         } else {
@@ -1055,14 +1138,48 @@ fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
 
 fn run_arena(a: ArenaArgs) -> Result<()> {
     let config = arena_config(&a)?;
-    let jobs = jobs(a.jobs)?;
     config.validate()?;
     let out = Outputs {
         png: &a.png,
         json: a.json.as_deref(),
         trace: a.trace.as_deref(),
     };
-    shards::execute(&config, jobs, a.shard, &out, arena::total_frames(&config))
+    a.sweep.execute(&config, &out, arena::total_frames(&config))
+}
+
+fn robustness_config(a: &RobustnessArgs) -> Result<RobustnessConfig> {
+    let d = RobustnessConfig::default();
+    Ok(RobustnessConfig {
+        world: a.world.builtin(),
+        seeds: if a.seeds.is_empty() {
+            d.seeds
+        } else {
+            a.seeds.clone()
+        },
+        perturbations: if a.perturbations.is_empty() {
+            d.perturbations
+        } else {
+            a.perturbations.clone()
+        },
+        controllers: if a.controllers.is_empty() {
+            d.controllers
+        } else {
+            a.controllers.iter().map(|c| c.controller()).collect()
+        },
+        robots: a.trial.robots,
+        minutes: a.trial.minutes,
+    })
+}
+
+fn run_robustness(a: RobustnessArgs) -> Result<()> {
+    let config = robustness_config(&a)?;
+    config.validate()?;
+    let out = Outputs {
+        png: &a.png,
+        json: a.json.as_deref(),
+        trace: None,
+    };
+    a.sweep.execute(&config, &out, config.total_frames())
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {

@@ -111,6 +111,7 @@ pub fn merge(a: MergeArgs) -> Result<()> {
         Cmd::TwoThreats(x) => pool(&crate::two_threats_config(&x)?, &files, &out),
         Cmd::Swarm(x) => pool(&crate::swarm_config(&x)?, &files, &out),
         Cmd::Stimuli(x) => pool(&crate::stimuli_config(&x)?, &files, &out),
+        Cmd::Robustness(x) => pool(&crate::robustness_config(&x)?, &files, &out),
         _ => bail!("`{}` is not an experiment that can be sharded", line()),
     }
 }

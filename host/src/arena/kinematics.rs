@@ -9,7 +9,10 @@
 //! [`MotorParams::speed_noise`] and correlation time [`MotorParams::noise_corr_s`] (one per wheel,
 //! independent): unequal motors, slip and battery sag make a real robot drift off a straight line
 //! over seconds, not flicker at the physics rate. A stopped wheel stays stopped (the error is
-//! relative).
+//! relative). A lasting difference between the two motors, [`MotorParams::asymmetry`] (none by
+//! default; the robustness suite's), makes the right wheel that much slower than the left for
+//! the same command: driven open loop, the robot circles to the right with radius
+//! `track · (2 − a) / (2a)` ([`MotorParams::open_loop_radius_mm`]).
 //!
 //! The body then moves like a unicycle: forward speed `v = (left + right)/2`, yaw rate
 //! `ω = (left − right)/track` (rad/s, positive = right, as `alvs_tasks::model::fsm::mix` and
@@ -51,6 +54,9 @@ pub struct MotorParams {
     pub noise_corr_s: f64,
     /// Commands are limited to ± this, mm/s (the FSM never asks for more than 300).
     pub max_wheel_mm_s: f64,
+    /// Fraction by which the right wheel runs slower than the left for the same command (0.05:
+    /// 5 %), one motor weaker than the other for good; 0 = matched motors.
+    pub asymmetry: f64,
 }
 
 impl Default for MotorParams {
@@ -64,6 +70,7 @@ impl Default for MotorParams {
             speed_noise: 0.05,
             noise_corr_s: 1.0,
             max_wheel_mm_s: 400.0,
+            asymmetry: 0.0,
         }
     }
 }
@@ -75,6 +82,17 @@ impl MotorParams {
             lag_s: 0.0,
             speed_noise: 0.0,
             ..MotorParams::default()
+        }
+    }
+
+    /// The radius of the circle the robot drives when both wheels are told the same speed, mm,
+    /// with no other error: `track · (2 − a) / (2a)`; infinite for matched motors.
+    pub fn open_loop_radius_mm(&self) -> f64 {
+        let a = self.asymmetry;
+        if a == 0.0 {
+            f64::INFINITY
+        } else {
+            self.track_mm * (2.0 - a) / (2.0 * a)
         }
     }
 }
@@ -138,7 +156,7 @@ impl Drive {
     pub fn speeds(&self) -> (f64, f64) {
         (
             self.lagged[0] * (1.0 + self.error[0]),
-            self.lagged[1] * (1.0 + self.error[1]),
+            self.lagged[1] * (1.0 + self.error[1]) * (1.0 - self.params.asymmetry),
         )
     }
 

@@ -5,7 +5,9 @@
 //! |---|---|
 //! | arena, walls, textures, robot bodies, poses and the frame convention | [`world`] |
 //! | wall textures as mip-mapped look-up tables | [`texture`] |
-//! | each robot's front camera (99x72, 70°, pinhole), noise | [`render`] |
+//! | each robot's front camera (99x72, 70°, pinhole), its mount, noise | [`render`] |
+//! | a pattern fixed to the floor (textured and shaded floors) | [`floor_pattern`] |
+//! | uneven light across the arena | [`lighting`] |
 //! | top-down pictures for trajectory plots | [`topdown`] |
 //! | differential drive, motor lag and noise, time steps | [`kinematics`] |
 //! | simulated gyro behind `HeadingEstimator` | [`gyro`] |
@@ -14,6 +16,7 @@
 //! | seeded random numbers | [`rng`] |
 //! | the controllers (ALVS, swarm, LGMD2, scripted) behind one trait | [`controller`] |
 //! | the closed loop: render, control, physics per camera frame | [`sim`] |
+//! | the built-in worlds a command names (`--world`) | [`worlds`] |
 //!
 //! A closed-loop frame of robot `i` is: `Camera::capture` its frame from `Physics::poses`, run
 //! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
@@ -21,8 +24,10 @@
 
 pub mod contacts;
 pub mod controller;
+pub mod floor_pattern;
 pub mod gyro;
 pub mod kinematics;
+pub mod lighting;
 pub mod physics;
 pub mod render;
 pub mod replica;
@@ -31,21 +36,25 @@ pub mod sim;
 pub mod texture;
 pub mod topdown;
 pub mod world;
+pub mod worlds;
 
 pub use contacts::{
     ContactCounts, ContactEvent, ContactTracker, EventKind, Other, SurfaceContact, Tally,
 };
 pub use controller::{Command, Controller, Kind, Seen};
+pub use floor_pattern::FloorPattern;
 pub use gyro::{GyroParams, SimGyro};
 pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
+pub use lighting::LightGradient;
 pub use physics::Physics;
-pub use render::{Camera, Renderer, SensorNoise};
+pub use render::{Camera, CameraMount, RenderOptions, Renderer, SensorNoise};
 pub use rng::Rng;
-pub use sim::Sim;
+pub use sim::{HeadingSource, Sim, SimOptions};
 pub use topdown::TopDown;
 pub use world::{
     Arena, FloorShade, GreyImage, Obstacle, Pose, RobotPattern, Room, WallTexture, World,
 };
+pub use worlds::BuiltinWorld;
 
 /// A robot's motors, gyro and camera noise: realistic (default motor lag and noise, default
 /// gyro drift, [`SensorNoise::typical`]) or, with `realistic` false, ideal.

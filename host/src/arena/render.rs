@@ -4,7 +4,8 @@
 //! # Camera model
 //!
 //! A pinhole camera [`CAMERA_FORWARD_MM`] ahead of the body's centre and [`CAMERA_HEIGHT_MM`]
-//! above the floor, looking along the heading, optical axis level. Pixels are square; column
+//! above the floor, looking along the heading, optical axis level (the default
+//! [`CameraMount`]; the robustness suite raises, lowers and tilts it). Pixels are square; column
 //! `c` (0 = left) and row `y` (0 = top) are centred on the image points `c` and `y`, the axis
 //! passes through ([`CENTRE_COLUMN`], [`CENTRE_ROW`]) = (49, 35.5). The focal length
 //! [`FOCAL_PX`] = 49 / tan 35° puts the centres of the outermost columns at ±35°: a 70°
@@ -15,7 +16,13 @@
 //! column = 49 + f · tan β          row = 35.5 − f · (z − CAMERA_HEIGHT_MM) / s
 //! ```
 //!
-//! which is what [`column_of_bearing`] computes. Each column casts one ray through its centre;
+//! which is what [`column_of_bearing`] computes. A camera pitched up by `p`
+//! ([`CameraMount::pitch_deg`]) is rendered as the level camera with its image shifted down by
+//! `f · tan p` rows: the horizon lands exactly on [`CameraMount::horizon_row`]; what this leaves
+//! out, the perspective's second-order terms, is under 0.7 px at the frame's top and bottom
+//! rows for ±2° (`tan(e − p)` against `tan e − tan p` at the ±27° edges), and the keystone
+//! (verticals leaning by `p · tan β`, under 0.8 px over the frame's corners) is left out as
+//! every column casts one ray. Each column casts one ray through its centre;
 //! along it the parameter is the axial depth, so the vertical extent of whatever the ray hits
 //! comes straight from the formula above (a wall seen square-on is a horizontal band, no
 //! fish-eye). Edges are anti-aliased: robots cover the columns between their silhouette
@@ -28,7 +35,9 @@
 //! Above the walls the bright lab ([`SKY_GREY`]); the walls with their texture
 //! ([`super::texture`]), each side slightly differently lit ([`WALL_SIDE_SHADE`]) so corners
 //! show; the floor as a grey gradient by distance ([`FLOOR_NEAR_GREY`] → [`FLOOR_FAR_GREY`],
-//! static in the image since it has no texture); robots as cylinders with their
+//! static in the image since it has no texture), optionally times a pattern fixed to the floor
+//! ([`super::floor_pattern`]) and a lighting gradient ([`super::lighting`]) on everything lit in
+//! the arena ([`RenderOptions`]); robots as cylinders with their
 //! [`RobotPattern`], Lambert-shaded (`AMBIENT + (1 − AMBIENT) cos i`, so their flanks are
 //! darker), drawn far to near per column so nearer robots occlude farther ones. The viewer's own
 //! body is behind its camera. Optionally the light is integrated over an exposure (the mean of
@@ -46,6 +55,8 @@ use alvs_tasks::{Frame, HEIGHT, PIXELS, WIDTH};
 
 use crate::canvas::Canvas;
 
+use super::floor_pattern::{FloorMap, FloorPattern};
+use super::lighting::LightGradient;
 use super::rng::Rng;
 use super::texture::WallMap;
 use super::world::{
@@ -108,6 +119,88 @@ pub fn frame_canvas(frame: &Frame, scale: usize) -> Canvas {
     c
 }
 
+/// Where the camera sits on the body. The default is the camera the model assumes (a host test
+/// holds it to `floor::CAMERA_HEIGHT_MM` and the horizon at row 35.5); the robustness suite
+/// moves it (docs/robustness.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraMount {
+    /// Height of the optical centre above the floor, mm.
+    pub height_mm: f64,
+    /// Tilt of the optical axis, degrees, positive = up (the horizon moves down the image).
+    pub pitch_deg: f64,
+}
+
+impl Default for CameraMount {
+    /// [`CAMERA_HEIGHT_MM`], level.
+    fn default() -> Self {
+        CameraMount {
+            height_mm: CAMERA_HEIGHT_MM,
+            pitch_deg: 0.0,
+        }
+    }
+}
+
+impl CameraMount {
+    /// Most pitch accepted, degrees: the shifted-image rendering (module documentation) is a
+    /// small-angle one.
+    pub const MAX_PITCH_DEG: f64 = 10.0;
+
+    /// The image row of the horizon: [`CENTRE_ROW`] `+ f · tan p`.
+    pub fn horizon_row(&self) -> f64 {
+        CENTRE_ROW + FOCAL_PX * self.pitch_deg.to_radians().tan()
+    }
+
+    /// The image row at which a point `height_mm` above the floor at axial depth `depth_mm`
+    /// appears ([`row_of_height`] for this mount).
+    pub fn row_of_height(&self, height_mm: f64, depth_mm: f64) -> f64 {
+        self.horizon_row() - FOCAL_PX * (height_mm - self.height_mm) / depth_mm
+    }
+
+    /// Checks the mount (one line): a height above the floor and below the walls' usual
+    /// reach, a small pitch.
+    pub fn check(&self) -> anyhow::Result<()> {
+        anyhow::ensure!(
+            self.height_mm.is_finite() && self.height_mm > 0.0 && self.height_mm <= 100.0,
+            "camera height must be in (0, 100] mm, got {}",
+            self.height_mm
+        );
+        anyhow::ensure!(
+            self.pitch_deg.is_finite() && self.pitch_deg.abs() <= Self::MAX_PITCH_DEG,
+            "camera pitch must be within ±{} degrees, got {}",
+            Self::MAX_PITCH_DEG,
+            self.pitch_deg
+        );
+        Ok(())
+    }
+}
+
+/// How a [`Renderer`] draws a world beyond the world itself: the camera's mount, and the
+/// robustness suite's floor pattern and lighting gradient. The default draws exactly what
+/// [`Renderer::new`] always drew.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RenderOptions {
+    /// Where the camera sits.
+    pub mount: CameraMount,
+    /// A pattern fixed to the floor, on top of its [`super::FloorShade`].
+    pub floor_pattern: Option<FloorPattern>,
+    /// Uneven light across the arena.
+    pub lighting: Option<LightGradient>,
+}
+
+impl RenderOptions {
+    /// Checks every part (one line).
+    pub fn check(&self) -> anyhow::Result<()> {
+        self.mount.check()?;
+        if let Some(p) = &self.floor_pattern {
+            p.check()?;
+        }
+        if let Some(l) = &self.lighting {
+            l.check()?;
+        }
+        Ok(())
+    }
+}
+
 /// Sensor imperfections of a [`Camera`]. Both zero (the default) gives the ideal camera.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SensorNoise {
@@ -165,6 +258,14 @@ pub struct Renderer {
     col_tan: [f32; WIDTH],
     /// Floor grey of each row.
     floor: [f32; HEIGHT],
+    /// Row of the horizon ([`CameraMount::horizon_row`]).
+    horizon: f32,
+    /// Height of the camera, mm.
+    cam_h: f32,
+    /// Axial depth of the floor each row sees, mm (infinite at and above the horizon).
+    floor_depth: [f32; HEIGHT],
+    floor_map: Option<FloorMap>,
+    lighting: Option<LightGradient>,
 }
 
 /// The room around the arena, precomputed: its texture pyramid at [`Room::SCALE`] times the
@@ -192,6 +293,8 @@ struct View {
     radius: f32,
     height: f32,
     pattern: RobotPattern,
+    /// The light where it stands ([`LightGradient::gain`], 1 without a gradient).
+    light: f32,
 }
 
 /// A robot in one column.
@@ -341,19 +444,41 @@ fn shift_rows(light: &[f32], rows: f64, out: &mut [f32]) {
 impl Renderer {
     /// Precomputes `world` for rendering (a few ms: the texture pyramid).
     pub fn new(world: &World) -> Self {
+        Renderer::with_options(world, &RenderOptions::default())
+    }
+
+    /// Precomputes `world` for rendering as `options` say (unchecked: see
+    /// [`RenderOptions::check`]).
+    pub fn with_options(world: &World, options: &RenderOptions) -> Self {
         let f = FOCAL_PX as f32;
         let col_tan = std::array::from_fn(|c| (c as f32 - CENTRE_COLUMN as f32) / f);
         let (near, far) = (world.floor.near_grey, world.floor.far_grey);
-        let floor = std::array::from_fn(|y| {
-            let below = y as f32 - CENTRE_ROW as f32;
+        let horizon = options.mount.horizon_row() as f32;
+        let cam_h = options.mount.height_mm as f32;
+        let floor_depth: [f32; HEIGHT] = std::array::from_fn(|y| {
+            let below = y as f32 - horizon;
             if below <= 0.0 {
+                f32::INFINITY
+            } else {
+                f * cam_h / below
+            }
+        });
+        let floor = std::array::from_fn(|y| {
+            let s = floor_depth[y];
+            if s.is_infinite() {
                 far
             } else {
-                let s = f * CAMERA_HEIGHT_MM as f32 / below;
                 far + (near - far) * (-s / FLOOR_FADE_MM).exp()
             }
         });
         Renderer {
+            horizon,
+            cam_h,
+            floor_depth,
+            floor_map: options
+                .floor_pattern
+                .map(|p| FloorMap::new(&p, &world.arena)),
+            lighting: options.lighting,
             arena: world.arena,
             wall_h: world.wall_height_mm as f32,
             map: WallMap::new(world),
@@ -379,6 +504,33 @@ impl Renderer {
             }),
             col_tan,
             floor,
+        }
+    }
+
+    /// The light at `x_mm` ([`LightGradient::gain`]; 1 without a gradient).
+    fn light_at(&self, x_mm: f32) -> f32 {
+        self.lighting.map_or(1.0, |l| l.gain(&self.arena, x_mm))
+    }
+
+    /// The floor's grey down one column whose ray runs along (`rx`, `ry`) per mm of axial depth
+    /// from the camera at (`cx`, `cy`), from row `from` down, with the floor pattern and the
+    /// lighting; rows above `from` keep the plain floor.
+    fn floor_column(&self, cam: (f32, f32), ray: (f32, f32), from: usize, out: &mut [f32; HEIGHT]) {
+        out.copy_from_slice(&self.floor);
+        let f = FOCAL_PX as f32;
+        let reach = (ray.0 * ray.0 + ray.1 * ray.1).sqrt();
+        let view = (ray.0 / reach, ray.1 / reach);
+        for (g, &s) in out.iter_mut().zip(&self.floor_depth).skip(from) {
+            if !s.is_finite() {
+                continue;
+            }
+            let (x, y) = (cam.0 + s * ray.0, cam.1 + s * ray.1);
+            *g *= self.light_at(x);
+            if let Some(map) = &self.floor_map {
+                // the pixel's patch of floor: s/f across, s²/(f·h) along the grazing view
+                let (across, along) = (s * reach / f, s * s * reach / (f * self.cam_h));
+                *g *= map.factor((x, y), view, across, along);
+            }
         }
     }
 
@@ -416,8 +568,9 @@ impl Renderer {
         let (cx, cy) = eye.offset(CAMERA_FORWARD_MM, 0.0);
         let (rx_, ry_) = (-fy, fx);
         let f = FOCAL_PX as f32;
-        let ch = CAMERA_HEIGHT_MM as f32;
-        let centre_row = CENTRE_ROW as f32;
+        let ch = self.cam_h;
+        // the horizon's row: the optical axis' row, moved by the pitch
+        let centre_row = self.horizon;
 
         // The other robots' and the obstacles' silhouettes.
         views.clear();
@@ -472,6 +625,7 @@ impl Renderer {
                 radius: radius as f32,
                 height: height as f32,
                 pattern,
+                light: self.light_at(b.x_mm as f32),
             });
         }
 
@@ -499,26 +653,27 @@ impl Renderer {
             } else {
                 (0.0, f32::INFINITY)
             };
-            let (s, u, side, normal) = if sxh <= syh {
+            // depth, wall coordinate, side, the ray's component across the wall, x of the hit
+            let (s, u, side, normal, hit_x) = if sxh <= syh {
                 let hy = (cy + sxh * ry).clamp(0.0, sy);
                 if wx > 0.0 {
-                    (sxh, sx + hy, 1, rx)
+                    (sxh, sx + hy, 1, rx, sx)
                 } else {
-                    (sxh, 2.0 * sx + sy + (sy - hy), 3, rx)
+                    (sxh, 2.0 * sx + sy + (sy - hy), 3, rx, 0.0)
                 }
             } else {
                 let hx = (cx + syh * rx).clamp(0.0, sx);
                 if wy > 0.0 {
-                    (syh, sx + sy + (sx - hx), 2, ry)
+                    (syh, sx + sy + (sx - hx), 2, ry, hx)
                 } else {
-                    (syh, hx, 0, ry)
+                    (syh, hx, 0, ry, hx)
                 }
             };
             let s = s.clamp(0.05, 1e7);
             let fp_v = s / f;
             let footprint = fp_v.max(fp_v / normal.abs().max(1e-3));
             let sampler = self.map.sampler(u, footprint);
-            let shade = WALL_SIDE_SHADE[side];
+            let shade = WALL_SIDE_SHADE[side] * self.light_at(hit_x);
 
             // Sky, wall, floor: rows [0, a) sky, (a, b) wall, (b, HEIGHT) floor; rows a and b
             // are shared.
@@ -526,6 +681,18 @@ impl Renderer {
             let y_base = centre_row + f * ch / s;
             let row_of = |yy: f32| ((yy + 0.5).floor().clamp(-1.0, HEIGHT as f32)) as i32;
             let (a, b) = (row_of(y_top), row_of(y_base));
+            let a_cl = a.clamp(0, HEIGHT as i32) as usize;
+            let b_cl = b.clamp(-1, HEIGHT as i32 - 1);
+            // the floor down this column: the rows' greys, or with a pattern or lighting the
+            // floor point each row sees
+            let mut detailed = [0f32; HEIGHT];
+            let floor = if self.floor_map.is_some() || self.lighting.is_some() {
+                let from = b_cl.max(0) as usize;
+                self.floor_column((cx, cy), (rx, ry), from, &mut detailed);
+                &detailed
+            } else {
+                &self.floor
+            };
             let wall_at = |y: usize| {
                 let v = (ch + (centre_row - y as f32) * fp_v).clamp(0.0, self.wall_h);
                 shade * sampler.at(v)
@@ -559,14 +726,12 @@ impl Renderer {
                 let sky = (y_top - lo).clamp(0.0, 1.0);
                 let fl = (hi - y_base).clamp(0.0, 1.0);
                 let wall = (1.0 - sky - fl).max(0.0);
-                let mut g = sky * above(y) + fl * self.floor[y];
+                let mut g = sky * above(y) + fl * floor[y];
                 if wall > 0.0 {
                     g += wall * wall_at(y);
                 }
                 g
             };
-            let a_cl = a.clamp(0, HEIGHT as i32) as usize;
-            let b_cl = b.clamp(-1, HEIGHT as i32 - 1);
             if room.is_some() {
                 for (y, g) in col[..a_cl].iter_mut().enumerate() {
                     *g = above(y);
@@ -588,7 +753,7 @@ impl Renderer {
             }
             let floor_from = (b_cl + 1).max(a_cl as i32 + 1).max(0) as usize;
             if floor_from < HEIGHT {
-                col[floor_from..].copy_from_slice(&self.floor[floor_from..]);
+                col[floor_from..].copy_from_slice(&floor[floor_from..]);
             }
 
             // Robots in this column, far to near.
@@ -611,7 +776,7 @@ impl Renderer {
                 let (nx, ny) = (v.qx + s * rx, v.qy + s * ry);
                 let n = (nx * nx + ny * ny).sqrt().max(1e-6);
                 let cos_i = (-(nx * rx + ny * ry) / (n * rr.sqrt())).clamp(0.0, 1.0);
-                let shade = ROBOT_AMBIENT + (1.0 - ROBOT_AMBIENT) * cos_i;
+                let shade = (ROBOT_AMBIENT + (1.0 - ROBOT_AMBIENT) * cos_i) * v.light;
                 let grey = match v.pattern {
                     RobotPattern::Stripes { count, dark, light } => {
                         let (dark, light) = (f32::from(dark), f32::from(light));

@@ -9,6 +9,7 @@
 //! | `two-threats`: two obstacles at unequal speeds; evading away from the faster | Fig. 4b, Sec. III-B | [`two_threats`] |
 //! | `arena`: robots wandering among each other and the walls, success rate and collisions | Figs. 5–6, Sec. III-C | [`arena`] |
 //! | `swarm`: six robots spinning on approach; spread of the group over time | Fig. 7, Sec. IV-D | [`swarm`] |
+//! | `robustness`: every controller in the validated world under a lab's and a robot's perturbations | issue 29 | [`robustness`] |
 //!
 //! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
 //! runs independent trials on worker threads; [`sweep`] splits a run into shards (`--shard
@@ -25,6 +26,7 @@ pub mod arena;
 pub mod encounter;
 pub mod evasion;
 pub mod parallel;
+pub mod robustness;
 pub mod stimuli;
 pub mod swarm;
 pub mod sweep;

@@ -110,10 +110,7 @@ impl ArenaConfig {
         let starts = start_poses(&arena, self.robots, self.seed)?;
         let (motor, gyro, mut noise) = crate::arena::robot_noise(self.noise);
         noise.exposure = self.exposure;
-        let root = Rng::new(self.seed).fork(CONTROLLER_STREAM);
-        let controller_seeds = (0..self.robots as u64)
-            .map(|i| root.fork(i).next_u64())
-            .collect();
+        let controller_seeds = controller_seeds(self.seed, self.robots);
         Ok(Prepared {
             backgrounds,
             controllers,
@@ -139,10 +136,32 @@ pub(super) struct Prepared {
     pub(super) frames: u64,
 }
 
+/// The seeds of `robots` robots' controllers (LGMD2's random turns) in a run of `seed`: robot
+/// `i` takes sub-stream `i` of the seed's controller stream.
+pub fn controller_seeds(seed: u64, robots: usize) -> Vec<u64> {
+    let root = Rng::new(seed).fork(CONTROLLER_STREAM);
+    (0..robots as u64)
+        .map(|i| root.fork(i).next_u64())
+        .collect()
+}
+
 /// `robots` start poses in `arena` for `seed`: uniform positions at least
 /// [`START_WALL_CLEARANCE_MM`] from the walls and [`START_SEPARATION_MM`] from each other,
 /// uniform headings. Fails (one line) when that many robots do not fit.
 pub fn start_poses(arena: &Arena, robots: usize, seed: u64) -> Result<Vec<Pose>> {
+    start_poses_among(arena, &[], robots, seed)
+}
+
+/// [`start_poses`] in an arena with `obstacles`: a position is also at least
+/// [`START_WALL_CLEARANCE_MM`] from every obstacle's surface (outside a robot–obstacle
+/// encounter, which counts as one with the wall). Without obstacles the same poses as
+/// [`start_poses`].
+pub fn start_poses_among(
+    arena: &Arena,
+    obstacles: &[Obstacle],
+    robots: usize,
+    seed: u64,
+) -> Result<Vec<Pose>> {
     let m = START_WALL_CLEARANCE_MM;
     let sep = START_SEPARATION_MM;
     let (w, h) = (arena.size_x_mm - 2.0 * m, arena.size_y_mm - 2.0 * m);
@@ -173,7 +192,8 @@ pub fn start_poses(arena: &Arena, robots: usize, seed: u64) -> Result<Vec<Pose>>
                 let (x, y) = (m + w * rng.uniform(), m + h * rng.uniform());
                 let heading = rng.range(-180.0, 180.0);
                 let p = Pose::new(x, y, heading);
-                if poses.iter().all(|q| q.distance_to(&p) >= sep) {
+                let clear = obstacles.iter().all(|o| o.surface_distance(x, y) >= m);
+                if clear && poses.iter().all(|q| q.distance_to(&p) >= sep) {
                     poses.push(p);
                     continue 'robot;
                 }

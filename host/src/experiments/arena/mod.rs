@@ -46,8 +46,8 @@ use crate::arena::contacts::{
 };
 use crate::arena::world::ROBOT_RADIUS_MM;
 use crate::arena::{
-    Arena, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, SensorNoise, Sim, Tally,
-    TopDown, WallTexture, World, FRAME_DT_S,
+    Arena, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other, Pose, Rng, SensorNoise, Sim,
+    SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, RED, WHITE};
 
@@ -88,8 +88,8 @@ pub const MAX_TRACE_LINES: u64 = 20_000_000;
 /// Typical length of a trace line, bytes (for the messages).
 const TRACE_LINE_BYTES: u64 = 85;
 
-/// A robot whose body is within this of a wall, mm, is pressed against it (the physics keeps
-/// the centre exactly one radius from a wall it pushes).
+/// A robot whose body is within this of a wall (or an obstacle), mm, is pressed against it
+/// (the physics keeps the centre exactly one radius from a wall it pushes).
 pub const WALL_CONTACT_SLACK_MM: f64 = 1.0;
 
 /// Camera frames between two progress reports of a trial (one simulated second).

@@ -235,7 +235,7 @@ pub(super) fn lighten(c: Rgb) -> Rgb {
 }
 
 /// The smallest 1, 2 or 5 times a power of ten at or above `v` (1 for `v <= 0`).
-pub(super) fn nice_ceiling(v: f64) -> f64 {
+pub(crate) fn nice_ceiling(v: f64) -> f64 {
     if !(v.is_finite() && v > 0.0) {
         return 1.0;
     }
@@ -248,23 +248,23 @@ pub(super) fn nice_ceiling(v: f64) -> f64 {
 }
 
 /// A grouped bar chart.
-pub(super) struct Bars<'a> {
-    pub(super) title: &'a str,
-    pub(super) groups: Vec<String>,
-    pub(super) series: &'a [(String, Rgb)],
+pub(crate) struct Bars<'a> {
+    pub(crate) title: &'a str,
+    pub(crate) groups: Vec<String>,
+    pub(crate) series: &'a [(String, Rgb)],
     /// `values[group][series]`.
-    pub(super) values: Vec<Vec<Option<f64>>>,
-    pub(super) y_max: f64,
+    pub(crate) values: Vec<Vec<Option<f64>>>,
+    pub(crate) y_max: f64,
     /// A group drawn in lighter colours (reference values).
-    pub(super) light_group: Option<usize>,
-    pub(super) decimals: usize,
+    pub(crate) light_group: Option<usize>,
+    pub(crate) decimals: usize,
 }
 
 pub(super) const INK: Rgb = [30, 30, 30];
 pub(super) const GRID: Rgb = [225, 225, 225];
 
 /// Draws `bars` in the `(x, y, w, h)` box of `c`.
-pub(super) fn draw_bars(c: &mut Canvas, (x, y, w, h): (i32, i32, i32, i32), bars: &Bars) {
+pub(crate) fn draw_bars(c: &mut Canvas, (x, y, w, h): (i32, i32, i32, i32), bars: &Bars) {
     let (tw, _) = Canvas::text_size(bars.title, 1);
     c.text(x + (w - tw as i32) / 2, y + 6, bars.title, INK, 1);
     let (left, right, top, bottom) = (x + 44, x + w - 12, y + 36, y + h - 22);

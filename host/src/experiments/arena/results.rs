@@ -105,7 +105,7 @@ pub struct Trial {
     pub robot_wall: TallyStats,
     /// Physical wall contacts (centre within one radius of a wall).
     pub wall_touches: u64,
-    /// Fraction of robot-frames spent pressed against a wall (body within
+    /// Fraction of robot-frames spent pressed against a wall or obstacle (body within
     /// [`WALL_CONTACT_SLACK_MM`] of it): time a robot is stuck rather than exploring.
     pub wall_contact_fraction: f64,
     /// Mean speed of the robots over the trial, mm/s (distance from frame to frame).
@@ -195,7 +195,7 @@ pub struct ArenaReport {
 }
 
 /// Pools the trials of one controller.
-pub(super) fn summarise(controller: &'static str, trials: &[&Trial]) -> ControllerSummary {
+pub(crate) fn summarise(controller: &'static str, trials: &[&Trial]) -> ControllerSummary {
     let minutes: f64 = trials.iter().map(|t| t.minutes).sum();
     let (mut rr, mut rw) = (Tally::default(), Tally::default());
     let mut state_frames: BTreeMap<String, u64> = BTreeMap::new();
@@ -251,7 +251,7 @@ pub(super) fn summarise(controller: &'static str, trials: &[&Trial]) -> Controll
     }
 }
 
-pub(super) fn mean(v: impl Iterator<Item = f64>) -> f64 {
+pub(crate) fn mean(v: impl Iterator<Item = f64>) -> f64 {
     let (n, sum) = v.fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
     if n == 0 {
         0.0

@@ -121,33 +121,91 @@ pub(super) fn run_trial(
     background: usize,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Trial {
-    let t0 = Instant::now();
     let (spec, texture) = &prep.backgrounds[background];
-    let world = World::with_texture(texture.clone());
-    let mut sim = Sim::new(&world, config.seed);
-    for (pose, &seed) in prep.starts.iter().zip(&prep.controller_seeds) {
+    run_world_trial(
+        &TrialSetup {
+            world: &World::with_texture(texture.clone()),
+            background: spec,
+            kind,
+            params: config.params,
+            fsm: config.fsm,
+            seed: config.seed,
+            starts: &prep.starts,
+            controller_seeds: &prep.controller_seeds,
+            motor: prep.motor,
+            gyro: prep.gyro,
+            noise: prep.noise,
+            options: SimOptions::default(),
+            frames: prep.frames,
+            trace: config.trace,
+        },
+        progress,
+    )
+}
+
+/// Everything one trial needs, whichever experiment plans it (the arena, the robustness
+/// suite): the world, the robots and their controller, their motors, gyros and cameras, and
+/// how the loop differs from the ideal one.
+pub struct TrialSetup<'a> {
+    /// The world the robots drive in.
+    pub world: &'a World,
+    /// Its label in [`Trial::background`].
+    pub background: &'a str,
+    /// The controller every robot runs.
+    pub kind: Kind,
+    /// ALVS model parameters.
+    pub params: Params,
+    /// Motion parameters.
+    pub fsm: alvs_tasks::model::fsm::FsmParams,
+    /// Seed of the simulation (motor, gyro and camera noise).
+    pub seed: u64,
+    /// Where the robots start ([`start_poses_among`]).
+    pub starts: &'a [Pose],
+    /// One controller seed per robot.
+    pub controller_seeds: &'a [u64],
+    /// Every robot's motors.
+    pub motor: MotorParams,
+    /// Every robot's gyro.
+    pub gyro: GyroParams,
+    /// Every robot's camera noise.
+    pub noise: SensorNoise,
+    /// The loop's perturbations (none by default).
+    pub options: SimOptions,
+    /// Camera frames per robot.
+    pub frames: u64,
+    /// Keep the frame-by-frame trace.
+    pub trace: bool,
+}
+
+/// Runs one trial as `setup` says: the arena experiment's counting (contacts, time pressed
+/// against a wall or obstacle, mean speed, states, short takeoffs). `progress` is told of
+/// simulated camera frames.
+pub fn run_world_trial(setup: &TrialSetup, progress: &(dyn Fn(u64) + Sync)) -> Trial {
+    let t0 = Instant::now();
+    let world = setup.world;
+    let mut sim = Sim::with_options(world, setup.seed, &setup.options);
+    for (pose, &seed) in setup.starts.iter().zip(setup.controller_seeds) {
         sim.add(
             *pose,
-            kind.make(config.params, config.fsm, seed),
-            prep.motor,
-            prep.gyro,
-            prep.noise,
+            setup.kind.make(setup.params, setup.fsm, seed),
+            setup.motor,
+            setup.gyro,
+            setup.noise,
         );
     }
-    let arena = world.arena;
-    let mut last: Vec<(f64, f64)> = prep.starts.iter().map(|p| (p.x_mm, p.y_mm)).collect();
+    let mut last: Vec<(f64, f64)> = setup.starts.iter().map(|p| (p.x_mm, p.y_mm)).collect();
     let (mut contact_frames, mut distance_mm) = (0u64, 0.0f64);
     let mut reported = 0;
     let mut trace = Vec::new();
-    let mut starts = ShortStarts::new(prep.starts.len());
-    for f in 1..=prep.frames {
+    let mut starts = ShortStarts::new(setup.starts.len());
+    for f in 1..=setup.frames {
         sim.step();
-        if config.trace {
-            trace_frame(&sim, &arena, f - 1, &mut trace);
+        if setup.trace {
+            trace_frame(&sim, world, f - 1, &mut trace);
         }
-        starts.observe(&sim, &arena);
+        starts.observe(&sim, world);
         for (p, q) in sim.physics.poses().iter().zip(last.iter_mut()) {
-            if arena.wall_distance(p.x_mm, p.y_mm) < ROBOT_RADIUS_MM + WALL_CONTACT_SLACK_MM {
+            if world.static_distance(p.x_mm, p.y_mm) < ROBOT_RADIUS_MM + WALL_CONTACT_SLACK_MM {
                 contact_frames += 1;
             }
             distance_mm += (p.x_mm - q.0).hypot(p.y_mm - q.1);
@@ -158,9 +216,9 @@ pub(super) fn run_trial(
             reported = f;
         }
     }
-    progress(prep.frames - reported);
+    progress(setup.frames - reported);
 
-    let minutes = prep.frames as f64 * FRAME_DT_S / 60.0;
+    let minutes = setup.frames as f64 * FRAME_DT_S / 60.0;
     let counts = sim.physics.counts();
     let total = counts.total();
     let mut state_frames: BTreeMap<String, u64> = BTreeMap::new();
@@ -197,11 +255,11 @@ pub(super) fn run_trial(
         .map(|t| t.iter().map(|&(x, y)| [round1(x), round1(y)]).collect())
         .collect();
     Trial {
-        controller: kind.name(),
-        background: spec.clone(),
-        seed: config.seed,
-        robots: prep.starts.len(),
-        frames: prep.frames,
+        controller: setup.kind.name(),
+        background: setup.background.to_string(),
+        seed: setup.seed,
+        robots: setup.starts.len(),
+        frames: setup.frames,
         minutes,
         success_rate: total.success_rate(),
         encounters: total.encounters,
@@ -218,7 +276,7 @@ pub(super) fn run_trial(
         state_fraction,
         state_frames,
         wall_clock_s: t0.elapsed().as_secs_f64(),
-        start_poses: prep.starts.iter().map(|&p| p.into()).collect(),
+        start_poses: setup.starts.iter().map(|&p| p.into()).collect(),
         end_poses: sim.physics.poses().iter().map(|&p| p.into()).collect(),
         collision_events,
         trails,
@@ -227,7 +285,7 @@ pub(super) fn run_trial(
 }
 
 /// Counts the short takeoffs the robots start, and how many of them start inside an
-/// encounter: a wall within [`WALL_ENCOUNTER_DISTANCE_MM`] or another robot within
+/// encounter: a wall or obstacle within [`WALL_ENCOUNTER_DISTANCE_MM`] or another robot within
 /// [`ROBOT_ENCOUNTER_DISTANCE_MM`] of the robot's centre (the paper's short mode is for a
 /// threat that is already close; issue "short takeoff only around real threats").
 pub(super) struct ShortStarts {
@@ -249,7 +307,7 @@ impl ShortStarts {
     }
 
     /// Looks at the frame just simulated.
-    pub fn observe(&mut self, sim: &Sim, arena: &Arena) {
+    pub fn observe(&mut self, sim: &Sim, world: &World) {
         let poses = sim.physics.poses();
         for (i, (p, cmd)) in poses.iter().zip(sim.commands()).enumerate() {
             let Some(last) = self.last.get_mut(i) else {
@@ -261,7 +319,8 @@ impl ShortStarts {
                     .iter()
                     .enumerate()
                     .any(|(j, q)| j != i && p.distance_to(q) < ROBOT_ENCOUNTER_DISTANCE_MM);
-                if near_robot || arena.wall_distance(p.x_mm, p.y_mm) < WALL_ENCOUNTER_DISTANCE_MM {
+                if near_robot || world.static_distance(p.x_mm, p.y_mm) < WALL_ENCOUNTER_DISTANCE_MM
+                {
                     self.in_encounter += 1;
                 }
             }
@@ -274,7 +333,7 @@ impl ShortStarts {
 const SHORT_TAKEOFF: &str = alvs_tasks::model::fsm::State::ShortTakeoff.name();
 
 /// Appends the trace lines of camera frame `frame` (just simulated), one per robot.
-pub(super) fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<String>) {
+pub(super) fn trace_frame(sim: &Sim, world: &World, frame: u64, out: &mut Vec<String>) {
     let poses = sim.physics.poses();
     for (i, (p, cmd)) in poses.iter().zip(sim.commands()).enumerate() {
         let nearest = poses
@@ -287,7 +346,7 @@ pub(super) fn trace_frame(sim: &Sim, arena: &Arena, frame: u64, out: &mut Vec<St
         out.push(format!(
             "{i},{},{:.1},{nearest}",
             encounter::frame_csv(frame, p, cmd.state, cmd.alert, &cmd.seen),
-            arena.wall_distance(p.x_mm, p.y_mm),
+            world.static_distance(p.x_mm, p.y_mm),
         ));
     }
 }
