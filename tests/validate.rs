@@ -5,8 +5,8 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test validate`.
 
-use alvs_host::arena::{replica, SurfaceContact, World};
-use alvs_host::experiments::validate::sim::{simulate, CameraChoice};
+use alvs_host::arena::{replica, SensorNoise, SurfaceContact, World};
+use alvs_host::experiments::validate::sim::simulate;
 
 fn replica_with_slip(slip_yaw: f64) -> World {
     let w = replica::world();
@@ -28,14 +28,14 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
             140.0,
             120.0,
             seed,
-            CameraChoice::default(),
+            SensorNoise::typical(),
         );
         let frozen = simulate(
             &replica_with_slip(0.0),
             140.0,
             120.0,
             seed,
-            CameraChoice::default(),
+            SensorNoise::typical(),
         );
         let per_min = |alerts: u64| alerts as f64 / 2.0;
         assert!(

@@ -190,9 +190,8 @@ struct ValidateArgs {
     /// repeat the calibration of the walls' look (docs/world.md).
     #[arg(long, value_name = "SPEC")]
     walls: Option<String>,
-    /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots).
-    #[arg(long, value_name = "F", default_value_t = 0.0)]
-    exposure: f32,
+    #[command(flatten)]
+    camera: CameraArgs,
     /// Standard deviation of the camera's pitch jitter while the robot moves, degrees
     /// (`SensorNoise::shake_deg`).
     #[arg(long, value_name = "DEG", default_value_t = 0.0)]
@@ -1007,14 +1006,12 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
             RunsArg::Calibration => validate::RunSet::Calibration,
             RunsArg::HeldOut => validate::RunSet::HeldOut,
         },
-        camera: validate::sim::CameraChoice {
-            exposure: a.exposure,
+        noise: alvs_host::arena::SensorNoise {
+            exposure: a.camera.exposure,
             shake_deg: a.shake_deg,
+            ..alvs_host::arena::SensorNoise::typical()
         },
     };
-    if !(0.0..=1.0).contains(&a.exposure) {
-        anyhow::bail!("--exposure {}: must be within 0..=1", a.exposure);
-    }
     if !(a.shake_deg.is_finite() && a.shake_deg >= 0.0) {
         anyhow::bail!("--shake-deg {}: must be a finite number >= 0", a.shake_deg);
     }

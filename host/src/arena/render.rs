@@ -411,11 +411,14 @@ impl Camera {
                 1.0 / instants as f32,
             );
         }
-        let moved = before
-            .get(viewer)
-            .zip(bodies.get(viewer))
-            .is_some_and(|(a, b)| a != b);
-        let light = if self.noise.shake_deg > 0.0 && moved {
+        // only a shaking camera needs to know whether its body moved
+        let moved = || {
+            before
+                .get(viewer)
+                .zip(bodies.get(viewer))
+                .is_some_and(|(a, b)| a != b)
+        };
+        let light = if self.noise.shake_deg > 0.0 && moved() {
             let pitch = f64::from(self.noise.shake_deg * self.rng.normal()).to_radians();
             shift_rows(&self.light, FOCAL_PX * pitch.tan(), &mut self.shaken);
             &self.shaken

@@ -38,8 +38,9 @@ pub struct ValidateConfig {
     pub jobs: usize,
     /// Which recorded runs to simulate.
     pub runs: RunSet,
-    /// The simulated robot's camera: exposure and shake.
-    pub camera: sim::CameraChoice,
+    /// The simulated robot's camera noise ([`crate::arena::SensorNoise::typical`] unless
+    /// calibrating its exposure or shake).
+    pub noise: crate::arena::SensorNoise,
 }
 
 /// A choice of recorded runs.
@@ -139,7 +140,7 @@ pub fn validate(config: &ValidateConfig, progress: &(dyn Fn() + Sync)) -> Result
             cruise as f32,
             real.duration_s,
             seed,
-            config.camera,
+            config.noise,
         );
         let track = track_from_trail(&out.trail, &arena.drawing(run.snapshot_every_s()));
         let stats = PathStats::of(&track, arena.size());

@@ -4,22 +4,13 @@
 use alvs_tasks::model::fsm::FsmParams;
 
 use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{Kind, Pose, Rng, Sim, World, FRAME_DT_S};
+use crate::arena::{Kind, Pose, Rng, SensorNoise, Sim, World, FRAME_DT_S};
 
 /// A robot's centre counts as pressed against a surface within this gap of touching it, mm
 /// (the same slack as the arena experiment's time at a wall).
 pub const PRESSED_GAP_MM: f64 = 5.0;
 /// Clearance of a start pose from every wall and obstacle, mm.
 pub const START_CLEARANCE_MM: f64 = 100.0;
-
-/// How the simulated robot's camera differs from [`crate::arena::SensorNoise::typical`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CameraChoice {
-    /// [`crate::arena::SensorNoise::exposure`].
-    pub exposure: f32,
-    /// [`crate::arena::SensorNoise::shake_deg`].
-    pub shake_deg: f32,
-}
 
 /// What one simulated run gives the statistics.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,22 +39,20 @@ pub fn start_pose(world: &World, seed: u64) -> Pose {
 }
 
 /// Runs one LGMD2 robot (the paper's baseline, its published parameters) for `seconds` at
-/// `speed_mm_s` in `world`, with realistic motor, gyro and camera noise, the camera exposing
-/// for `exposure` of the frame period ([`crate::arena::SensorNoise::exposure`]).
+/// `speed_mm_s` in `world`, with realistic motor and gyro noise and the camera's `noise`
+/// (e.g. [`SensorNoise::typical`] with an exposure or a shake).
 pub fn simulate(
     world: &World,
     speed_mm_s: f32,
     seconds: f64,
     seed: u64,
-    camera: CameraChoice,
+    noise: SensorNoise,
 ) -> SimRun {
     let fsm = FsmParams {
         cruise_mm_s: speed_mm_s,
         ..FsmParams::PAPER
     };
-    let (motor, gyro, mut noise) = crate::arena::robot_noise(true);
-    noise.exposure = camera.exposure;
-    noise.shake_deg = camera.shake_deg;
+    let (motor, gyro, _) = crate::arena::robot_noise(true);
     let mut sim = Sim::new(world, seed);
     let controller_seed = Rng::new(seed).fork(0x1a9d).next_u64();
     sim.add(
