@@ -5,7 +5,7 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test validate`.
 
-use alvs_host::arena::{replica, SensorNoise, SurfaceContact, World};
+use alvs_host::arena::{replica, CameraMount, SensorNoise, SurfaceContact, World};
 use alvs_host::experiments::validate::sim::simulate;
 
 fn replica_with_slip(slip_yaw: f64) -> World {
@@ -29,6 +29,8 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
             120.0,
             seed,
             SensorNoise::typical(),
+            CameraMount::default(),
+            None,
         );
         let frozen = simulate(
             &replica_with_slip(0.0),
@@ -36,6 +38,8 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
             120.0,
             seed,
             SensorNoise::typical(),
+            CameraMount::default(),
+            None,
         );
         let per_min = |alerts: u64| alerts as f64 / 2.0;
         assert!(
@@ -59,7 +63,7 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
 #[test]
 fn straight_approaches_alert_at_the_real_turns_distances() {
     use alvs_host::experiments::validate::approach::approaches;
-    let row = &approaches(&replica::world(), &[159.0])[0];
+    let row = &approaches(&replica::world(), CameraMount::default(), &[159.0])[0];
     assert!(
         row.alerted * 3 >= row.approaches * 2,
         "{} of {}",
@@ -68,4 +72,45 @@ fn straight_approaches_alert_at_the_real_turns_distances() {
     );
     let gap = row.median_gap_mm.expect("some alerted");
     assert!((38.0..=77.0).contains(&gap), "median gap {gap} mm");
+}
+
+/// Square on at the slower runs' speeds the LGMD2 does not see the replica's bright wall coming
+/// at all (docs/world.md, "What is left"): the real robots turn as far from it at every speed.
+#[test]
+fn slow_square_on_approaches_go_unseen() {
+    use alvs_host::experiments::validate::approach::{approaches, ANGLES_DEG};
+    assert_eq!(ANGLES_DEG[0], 90.0);
+    for row in approaches(&replica::world(), CameraMount::default(), &[84.0, 51.0]) {
+        assert_eq!(
+            row.alerted_by_angle[0], 0,
+            "{} mm/s: {:?}",
+            row.speed_mm_s, row.alerted_by_angle
+        );
+    }
+}
+
+/// The diagnostic `--proximity-mm`: a forward proximity sensor 30 mm deep keeps a slow LGMD2
+/// robot off the walls that its vision misses (two simulated minutes at the 3.5 cm/s run's
+/// speed, tuning seeds).
+#[test]
+fn a_proximity_sensor_keeps_a_slow_robot_off_the_walls() {
+    for seed in 1..=2 {
+        let run = |proximity| {
+            simulate(
+                &replica::world(),
+                84.0,
+                120.0,
+                seed,
+                SensorNoise::typical(),
+                CameraMount::default(),
+                proximity,
+            )
+            .pressed_share
+        };
+        let (with, without) = (run(Some(30.0)), run(None));
+        assert!(
+            with < 0.03 && without > 0.1,
+            "seed {seed}: pressed {with:.3} with the sensor, {without:.3} without"
+        );
+    }
 }

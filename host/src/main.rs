@@ -190,16 +190,46 @@ struct ValidateArgs {
     /// repeat the calibration of the walls' look (docs/world.md).
     #[arg(long, value_name = "SPEC")]
     walls: Option<String>,
+    /// Override the texture of the room seen above the walls (a `--background` form, e.g.
+    /// plain:120 or outdoor:1), to repeat the calibration of the room's look (docs/world.md).
+    #[arg(long, value_name = "SPEC")]
+    room: Option<String>,
     #[command(flatten)]
     camera: CameraArgs,
     /// Standard deviation of the camera's pitch jitter while the robot moves, degrees
     /// (`SensorNoise::shake_deg`).
     #[arg(long, value_name = "DEG", default_value_t = 0.0)]
     shake_deg: f32,
+    /// Height of the simulated robot's camera above the floor, mm, to calibrate the mount
+    /// (docs/world.md).
+    #[arg(long, value_name = "MM", default_value_t = alvs_host::arena::render::CAMERA_HEIGHT_MM)]
+    camera_height: f64,
+    /// Pitch of the simulated robot's camera, degrees, positive = up.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pitch: f64,
+    /// A diagnostic, not the baseline: give the simulated LGMD2 robot a forward proximity
+    /// sensor of this range (mm ahead of its front, ±30°) whose alert starts the same random
+    /// turn, to test whether the real robots' bottom-board infrared explains their turns
+    /// (docs/world.md, "What is left").
+    #[arg(long, value_name = "MM")]
+    proximity_mm: Option<f64>,
+    /// Straight driving each turn costs the simulated robot, s: its cruise speed is the run's
+    /// mean path speed / (1 − turns a second × this); 0 drives at the mean path speed.
+    #[arg(long, value_name = "S", default_value_t = validate_turn_cost())]
+    turn_cost_s: f64,
     /// Instead of the runs: straight open-loop approaches to the wall at the recordings' mean
     /// speeds, and where the LGMD2 first alerts (docs/world.md, "What is left").
     #[arg(long)]
     approaches: bool,
+}
+
+fn validate_turn_cost() -> f64 {
+    alvs_host::experiments::validate::TURN_COST_S
 }
 
 /// Which recorded runs `validate` simulates.
@@ -972,6 +1002,17 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
     if let Some(spec) = &a.walls {
         world.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
     }
+    if let Some(spec) = &a.room {
+        let Some(room) = world.room.as_mut() else {
+            anyhow::bail!("--room: the {world_label} world has no room above its walls");
+        };
+        room.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
+    }
+    let mount = alvs_host::arena::CameraMount {
+        height_mm: a.camera_height,
+        pitch_deg: a.pitch,
+    };
+    mount.check()?;
     if a.approaches {
         use alvs_host::experiments::validate::approach;
         let arena = alvs_host::recordings::arena()?;
@@ -980,12 +1021,29 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
             .iter()
             .map(|r| r.stats(&arena).mean_speed_mm_s.round())
             .collect();
-        println!("| run | speed mm/s | approaches | alerted before touching | median gap at the alert (mm) |");
-        println!("|---|---|---|---|---|");
-        for (run, r) in runs.iter().zip(approach::approaches(&world, &speeds)) {
+        let angles: String = approach::ANGLES_DEG
+            .iter()
+            .map(|a| format!(" {a:.0}° |"))
+            .collect();
+        println!(
+            "| run | speed mm/s | approaches | alerted before touching | median gap at the alert (mm) |{angles}"
+        );
+        println!(
+            "|---|---|---|---|---|{}",
+            "---|".repeat(approach::ANGLES_DEG.len())
+        );
+        for (run, r) in runs
+            .iter()
+            .zip(approach::approaches(&world, mount, &speeds))
+        {
             let gap = r.median_gap_mm.map_or("-".into(), |g| format!("{g:.0}"));
+            let per: String = r
+                .alerted_by_angle
+                .iter()
+                .map(|k| format!(" {k}/{} |", approach::AIM_X_MM.len()))
+                .collect();
             println!(
-                "| {} | {:.0} | {} | {} | {gap} |",
+                "| {} | {:.0} | {} | {} | {gap} |{per}",
                 run.run, r.speed_mm_s, r.approaches, r.alerted
             );
         }
@@ -1011,7 +1069,18 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
             shake_deg: a.shake_deg,
             ..alvs_host::arena::SensorNoise::typical()
         },
+        mount,
+        proximity_mm: a.proximity_mm,
+        turn_cost_s: a.turn_cost_s,
     };
+    if !(a.turn_cost_s.is_finite() && (0.0..=10.0).contains(&a.turn_cost_s)) {
+        anyhow::bail!("--turn-cost-s {}: must be in [0, 10] s", a.turn_cost_s);
+    }
+    if let Some(r) = a.proximity_mm {
+        if !(r.is_finite() && r > 0.0 && r <= 500.0) {
+            anyhow::bail!("--proximity-mm {r}: must be in (0, 500] mm");
+        }
+    }
     if !(a.shake_deg.is_finite() && a.shake_deg >= 0.0) {
         anyhow::bail!("--shake-deg {}: must be a finite number >= 0", a.shake_deg);
     }

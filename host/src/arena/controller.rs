@@ -214,7 +214,16 @@ impl Controller for Lgmd2Controller {
     }
 
     fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
-        let out = self.model.step(frame);
+        self.step_with(frame, heading_deg, false)
+    }
+}
+
+impl Lgmd2Controller {
+    /// One frame, with `proximity` an alert from outside the LGMD2 (a proximity sensor's, in
+    /// `cargo alvs validate --proximity-mm`, a diagnostic): it starts the same random turn.
+    pub fn step_with(&mut self, frame: &Frame, heading_deg: f32, proximity: bool) -> Command {
+        let mut out = self.model.step(frame);
+        out.collision |= proximity;
         let p = self.params;
         if !self.setpoint_deg.is_finite() {
             self.setpoint_deg = heading_deg;

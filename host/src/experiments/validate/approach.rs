@@ -5,7 +5,9 @@
 //! approach without any closed loop (`cargo alvs validate --approaches`).
 
 use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{Camera, Pose, Renderer, SensorNoise, World, FRAME_DT_S};
+use crate::arena::{
+    Camera, CameraMount, Pose, RenderOptions, Renderer, SensorNoise, World, FRAME_DT_S,
+};
 use crate::lgmd2::{Lgmd2, Lgmd2Params};
 
 /// Frames the network runs before an alert counts (its layers start from the first frame).
@@ -24,6 +26,8 @@ pub struct ApproachRow {
     pub approaches: usize,
     /// Approaches in which the LGMD2 alerted before the body touched the wall.
     pub alerted: usize,
+    /// Of those, per angle of [`ANGLES_DEG`] (of [`AIM_X_MM`]`.len()` approaches each).
+    pub alerted_by_angle: Vec<usize>,
     /// Median gap between the body and the wall at the first alert, mm.
     pub median_gap_mm: Option<f64>,
 }
@@ -56,16 +60,23 @@ fn first_alert_gap(
     None
 }
 
-/// Every angle × aim point at each speed, toward the wall at `y = size_y`.
-pub fn approaches(world: &World, speeds_mm_s: &[f64]) -> Vec<ApproachRow> {
-    let r = Renderer::new(world);
+/// Every angle × aim point at each speed, toward the wall at `y = size_y`, the camera at
+/// `mount`.
+pub fn approaches(world: &World, mount: CameraMount, speeds_mm_s: &[f64]) -> Vec<ApproachRow> {
+    let options = RenderOptions {
+        mount,
+        ..RenderOptions::default()
+    };
+    let r = Renderer::with_options(world, &options);
     let y0 = world.arena.size_y_mm - START_MM;
     speeds_mm_s
         .iter()
         .map(|&speed| {
             let mut gaps = Vec::new();
             let mut n = 0;
+            let mut alerted_by_angle = Vec::with_capacity(ANGLES_DEG.len());
             for &angle in &ANGLES_DEG {
+                let before = gaps.len();
                 for (k, &x) in AIM_X_MM.iter().enumerate() {
                     // start left of the aim point so that shallower approaches still end near it
                     let x0 = x - 200.0 * (90.0 - angle) / 75.0;
@@ -78,12 +89,14 @@ pub fn approaches(world: &World, speeds_mm_s: &[f64]) -> Vec<ApproachRow> {
                         k as u64 + 1,
                     ));
                 }
+                alerted_by_angle.push(gaps.len() - before);
             }
             gaps.sort_by(f64::total_cmp);
             ApproachRow {
                 speed_mm_s: speed,
                 approaches: n,
                 alerted: gaps.len(),
+                alerted_by_angle,
                 median_gap_mm: gaps.get(gaps.len() / 2).copied(),
             }
         })

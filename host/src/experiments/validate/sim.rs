@@ -1,10 +1,19 @@
 //! The simulated counterpart of a recorded run: one LGMD2 robot alone in a world, driving at
 //! the recorded cruise speed, its path sampled as the overhead tracker samples the real one.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
 use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::Frame;
+
+use crate::arena::controller::{Command, Controller, Lgmd2Controller};
+use crate::lgmd2::Lgmd2Params;
 
 use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{Kind, Pose, Rng, SensorNoise, Sim, World, FRAME_DT_S};
+use crate::arena::{
+    CameraMount, Kind, Pose, RenderOptions, Rng, SensorNoise, Sim, SimOptions, World, FRAME_DT_S,
+};
 
 /// A robot's centre counts as pressed against a surface within this gap of touching it, mm
 /// (the same slack as the arena experiment's time at a wall).
@@ -40,28 +49,39 @@ pub fn start_pose(world: &World, seed: u64) -> Pose {
 
 /// Runs one LGMD2 robot (the paper's baseline, its published parameters) for `seconds` at
 /// `speed_mm_s` in `world`, with realistic motor and gyro noise and the camera's `noise`
-/// (e.g. [`SensorNoise::typical`] with an exposure or a shake).
+/// (e.g. [`SensorNoise::typical`] with an exposure or a shake), its camera at `mount`.
 pub fn simulate(
     world: &World,
     speed_mm_s: f32,
     seconds: f64,
     seed: u64,
     noise: SensorNoise,
+    mount: CameraMount,
+    proximity_mm: Option<f64>,
 ) -> SimRun {
     let fsm = FsmParams {
         cruise_mm_s: speed_mm_s,
         ..FsmParams::PAPER
     };
     let (motor, gyro, _) = crate::arena::robot_noise(true);
-    let mut sim = Sim::new(world, seed);
+    let options = SimOptions {
+        render: RenderOptions {
+            mount,
+            ..RenderOptions::default()
+        },
+        ..SimOptions::default()
+    };
+    let mut sim = Sim::with_options(world, seed, &options);
     let controller_seed = Rng::new(seed).fork(0x1a9d).next_u64();
-    sim.add(
-        start_pose(world, seed),
-        Kind::Lgmd2.make(alvs_tasks::Params::PAPER, fsm, controller_seed),
-        motor,
-        gyro,
-        noise,
-    );
+    let near = Arc::new(AtomicBool::new(false));
+    let controller: Box<dyn Controller> = match proximity_mm {
+        None => Kind::Lgmd2.make(alvs_tasks::Params::PAPER, fsm, controller_seed),
+        Some(_) => Box::new(WithProximity {
+            inner: Lgmd2Controller::new(Lgmd2Params::default(), fsm, controller_seed),
+            near: near.clone(),
+        }),
+    };
+    sim.add(start_pose(world, seed), controller, motor, gyro, noise);
     let frames = (seconds / FRAME_DT_S).round() as u64;
     let mut trail = Vec::with_capacity(frames as usize + 1);
     let p0 = sim.physics.poses()[0];
@@ -69,6 +89,10 @@ pub fn simulate(
     let (mut pressed, mut alerts) = (0u64, 0u64);
     let mut state = "";
     for f in 1..=frames {
+        if let Some(range) = proximity_mm {
+            let p = sim.physics.poses()[0];
+            near.store(surface_ahead(world, p, range), Ordering::Relaxed);
+        }
         sim.step();
         let now = sim.commands()[0].state;
         alerts += u64::from(now == "long_takeoff" && state != "long_takeoff");
@@ -83,5 +107,42 @@ pub fn simulate(
         trail,
         pressed_share: pressed as f64 / frames.max(1) as f64,
         alerts,
+    }
+}
+
+/// Half-width of a forward proximity sensor's cone, degrees.
+const PROXIMITY_HALF_CONE_DEG: f64 = 30.0;
+
+/// Whether a wall or obstacle lies within `range_mm` of the body's front inside the cone.
+fn surface_ahead(world: &World, p: Pose, range_mm: f64) -> bool {
+    (-3..=3).any(|k| {
+        let a = (p.heading_deg + PROXIMITY_HALF_CONE_DEG * f64::from(k) / 3.0).to_radians();
+        let (dx, dy) = (a.cos(), a.sin());
+        let mut s = ROBOT_RADIUS_MM;
+        while s <= ROBOT_RADIUS_MM + range_mm {
+            if world.static_distance(p.x_mm + s * dx, p.y_mm + s * dy) <= 0.5 {
+                return true;
+            }
+            s += 2.0;
+        }
+        false
+    })
+}
+
+/// The LGMD2 robot with a forward proximity sensor whose alert starts the same turn (the
+/// diagnostic of `cargo alvs validate --proximity-mm`).
+struct WithProximity {
+    inner: Lgmd2Controller,
+    near: Arc<AtomicBool>,
+}
+
+impl Controller for WithProximity {
+    fn name(&self) -> &'static str {
+        "lgmd2+proximity"
+    }
+
+    fn step(&mut self, frame: &Frame, heading_deg: f32) -> Command {
+        let near = self.near.load(Ordering::Relaxed);
+        self.inner.step_with(frame, heading_deg, near)
     }
 }
