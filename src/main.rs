@@ -20,6 +20,7 @@ mod bench;
 mod board;
 mod camera;
 mod capture;
+mod ccm;
 mod fault;
 mod motor_link;
 mod setup;
@@ -103,7 +104,7 @@ mod app {
         last_fault: Option<Fault>,
     }
 
-    #[init(local = [network: Network = Network::alvs()])]
+    #[init]
     fn init(cx: init::Context) -> (Shared, Local) {
         // RTT first (it needs no clock set-up), so that a panic or a hang in the clock
         // configuration below is visible on the probe. Channel 0 "log" (text, the print channel
@@ -117,10 +118,8 @@ mod app {
                     name: "log"
                 }
                 1: {
-                    // ~3 KB/s of lines; a probe polls many times a second. 960, not 1024: the
-                    // 64 B went to the efference copy of forward motion under the RAM goal
-                    // (docs/budget.md)
-                    size: 960,
+                    // ~3 KB/s of lines; a probe polls many times a second
+                    size: 1024,
                     name: "telemetry"
                 }
             }
@@ -144,7 +143,8 @@ mod app {
         // DWT cycle counter: the perception timing and the self-benchmark read it.
         core.DCB.enable_trace();
         core.DWT.enable_cycle_counter();
-        let network: &'static mut Network = cx.local.network;
+        // SAFETY: init runs once, and nothing has touched CCM's data before this line.
+        let network: &'static mut Network = unsafe { crate::ccm::take_network() };
         bench::self_test(network);
 
         let ports = setup::Ports {

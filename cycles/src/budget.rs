@@ -25,6 +25,16 @@ pub const PERIOD_CYCLES: u64 = 6_000_000;
 pub const GATE_CYCLES: u64 = PERIOD_CYCLES * 8 / 10;
 /// The speed goal: 2.0 ms at 180 MHz.
 pub const GOAL_CYCLES: u64 = 360_000;
+/// RAM budget of the CPU-only core-coupled memory: all of it, 64 KB, for the network's state
+/// and the call stack (memory.x; docs/budget.md, "RAM").
+pub const CCM_BUDGET: u32 = 64 * 1024;
+/// RAM budget of the DMA-reachable SRAM's statics (the DCMI ring, the RTT buffers, the tasks'
+/// state): 32 KB, leaving the rest of the 192 KB for what only SRAM can hold (a frame buffer
+/// the DMA fills whole, a log); docs/budget.md, "RAM".
+pub const SRAM_BUDGET: u32 = 32 * 1024;
+/// Headroom every RAM figure keeps under its budget, at boot and while running (issue 31).
+pub const RAM_HEADROOM: u32 = 8 * 1024;
+
 /// The stages, in the order of `Report::stage_cycles`.
 pub use alvs_tasks::robot::self_test::STAGE_NAMES;
 

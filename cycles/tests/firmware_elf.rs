@@ -40,13 +40,33 @@ fn firmware_elf_loads_with_symbols_and_ram_report() {
     let vector = m.symbol("__RESET_VECTOR").expect("__RESET_VECTOR");
     assert_eq!(m.read_u32(vector).unwrap(), reset | 1);
     assert_eq!(m.read_u32(memory::FLASH.start + 4).unwrap(), reset | 1);
-    // The stack from memory.x: all of CCM, growing down from its top.
-    assert_eq!(m.stack(), memory::CCM);
+    // The stack from memory.x: the bottom of CCM, growing down, so that an overflow runs
+    // into the unmapped space below CCM and faults; the network's state lies above it.
+    let stack = m.stack();
+    assert_eq!(stack.start, memory::CCM.start, "an overflow leaves CCM");
+    assert!(stack.end > stack.start && stack.end < memory::CCM.end);
     assert_eq!(
         m.read_u32(memory::FLASH.start).unwrap(),
-        memory::CCM.end,
+        stack.end,
         "initial SP"
     );
+    let (data, end) = (
+        m.symbol("__sccmdata").unwrap(),
+        m.symbol("__eccmdata").unwrap(),
+    );
+    assert!(
+        stack.end <= data && data < end && end <= memory::CCM.end,
+        "the network's state above the stack"
+    );
+    let network_size = m
+        .read_u32(m.symbol("ALVS_BENCH_SIZES").expect("ALVS_BENCH_SIZES"))
+        .unwrap();
+    assert_eq!(
+        m.ram_report().region("CCM").map_or(0, |r| r.data),
+        network_size,
+        "the network, and only it, in CCM"
+    );
+    assert_eq!(end - data, network_size);
     assert!(m.symbol("no such symbol").is_none());
 
     let report: &RamReport = m.ram_report();

@@ -9,6 +9,7 @@
 //! here as if at 180 MHz (a few hundred µs sooner than on the board).
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
 
@@ -163,6 +164,9 @@ pub struct Board {
     uc: Unicorn<'static, Sys>,
     symbols: HashMap<String, Symbol>,
     sleeping: bool,
+    /// The call stack's region: `_stack_end.._stack_start` of the ELF (memory.x), else all
+    /// of CCM.
+    stack: Range<u32>,
 }
 
 impl Board {
@@ -218,12 +222,20 @@ impl Board {
         map_memory(&mut uc)?;
         add_hooks(&mut uc)?;
         load(&mut uc, &image.chunks)?;
-        // the stack (all of CCM, memory.x) painted, for the high-water mark
-        emu::paint(&mut uc, CCM, STACK_PAINT)?;
+        // the stack's region (memory.x) painted, for the high-water mark
+        let at = |name: &str| image.symbols.get(name).map(|s| s.value);
+        let stack = match (at("_stack_end"), at("_stack_start")) {
+            (Some(bottom), Some(top)) if CCM.start <= bottom && bottom < top && top <= CCM.end => {
+                bottom..top
+            }
+            _ => CCM,
+        };
+        emu::paint(&mut uc, stack.clone(), STACK_PAINT)?;
         let mut board = Board {
             uc,
             symbols: image.symbols,
             sleeping: false,
+            stack,
         };
         board.power_on()?;
         Ok(board)
@@ -299,7 +311,7 @@ impl Board {
     /// The deepest the stack (CCM, painted at power-on) has been since, in bytes below its top:
     /// every task and interrupt nesting included.
     pub fn stack_high_water(&self) -> Result<u32, Error> {
-        emu::high_water(&self.uc, CCM, STACK_PAINT)
+        emu::high_water(&self.uc, self.stack.clone(), STACK_PAINT)
     }
 
     /// Paints the free stack again (below SP; only in Thread mode, where nothing below SP is
@@ -311,10 +323,10 @@ impl Board {
             return Ok(false);
         }
         let sp = self.reg(RegisterARM::SP)? & !3;
-        if !(CCM.start..=CCM.end).contains(&sp) {
+        if !(self.stack.start..=self.stack.end).contains(&sp) {
             return Ok(false);
         }
-        emu::paint(&mut self.uc, CCM.start..sp, STACK_PAINT)?;
+        emu::paint(&mut self.uc, self.stack.start..sp, STACK_PAINT)?;
         Ok(true)
     }
 
