@@ -23,8 +23,11 @@ use crate::{Error, Machine, RamReport, CLOCK_HZ};
 pub const PERIOD_CYCLES: u64 = 6_000_000;
 /// CI fails if the pessimistic worst case exceeds this share of the period.
 pub const GATE_CYCLES: u64 = PERIOD_CYCLES * 8 / 10;
-/// The speed goal: 2.0 ms at 180 MHz.
-pub const GOAL_CYCLES: u64 = 360_000;
+/// The speed goal for the worst frame, pessimistic: 730 k cycles (4.1 ms at 180 MHz), a third of
+/// what the paper authors' reduced C firmware measures on the same model (2.20 M; issue 31).
+/// The former 2.0 ms (360 k) lay below what the frame's arithmetic alone costs (≈ 358 k,
+/// docs/notes/2026-11-27-budget-history.md).
+pub const GOAL_CYCLES: u64 = 730_000;
 /// RAM budget of the CPU-only core-coupled memory: all of it, 64 KB, for the network's state
 /// and the call stack (memory.x; docs/budget.md, "RAM").
 pub const CCM_BUDGET: u32 = 64 * 1024;
