@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_host::arena::{BuiltinWorld, Kind};
-use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
+use alvs_host::experiments::arena::{self, ArenaConfig};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
 use alvs_host::experiments::sweep::{Shard, Sweep};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
@@ -142,7 +142,7 @@ enum Cmd {
     Log(log_command::LogArgs),
 }
 
-/// The simulated worlds `validate` and `robustness` can drive in.
+/// The simulated worlds every experiment can run in.
 #[derive(Clone, Copy, ValueEnum)]
 enum WorldChoice {
     /// The recorded arena's replica (`arena::replica`): its size, low ribbed walls, dark
@@ -152,9 +152,19 @@ enum WorldChoice {
     Lab,
 }
 
-impl WorldChoice {
-    fn builtin(self) -> BuiltinWorld {
-        match self {
+/// `--world`, which every experiment takes.
+#[derive(clap::Args)]
+struct WorldArgs {
+    /// The world: fu2019, the replica of the recorded LGMD2 arena (1309 x 751 mm, 72 mm ribbed
+    /// walls, a dark floor, 15 cylinder obstacles, the calibrated contact), or lab, the
+    /// built-in 1200 x 900 mm arena with 250 mm walls and rigid contact (docs/world.md).
+    #[arg(long, value_enum, default_value = "fu2019")]
+    world: WorldChoice,
+}
+
+impl WorldArgs {
+    fn builtin(&self) -> BuiltinWorld {
+        match self.world {
             WorldChoice::Fu2019 => BuiltinWorld::Fu2019,
             WorldChoice::Lab => BuiltinWorld::Lab,
         }
@@ -163,9 +173,8 @@ impl WorldChoice {
 
 #[derive(clap::Args)]
 struct ValidateArgs {
-    /// The world the simulated robot drives in.
-    #[arg(long, value_enum, default_value = "fu2019")]
-    world: WorldChoice,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Seeds of the simulations (repeatable); one simulation per recorded run and seed.
     /// Default: 11, 12, 13 (report seeds: tuning uses 1-5).
     #[arg(long = "seed", value_name = "S")]
@@ -212,9 +221,8 @@ enum RunsArg {
 
 #[derive(clap::Args)]
 struct RobustnessArgs {
-    /// The world the robots drive in.
-    #[arg(long, value_enum, default_value = "fu2019")]
-    world: WorldChoice,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Seeds (repeatable); every perturbation and controller runs each. Default: 11-20 (the
     /// report seeds; tuning uses 1-5).
     #[arg(long = "seed", value_name = "S")]
@@ -334,10 +342,14 @@ struct CommonArgs {
     /// Seed of everything random (noise, geometry, LGMD2's turns).
     #[arg(long, default_value_t = 1, value_name = "S")]
     seed: u64,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Wall texture: plain:GREY, stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED,
-    /// outdoor:SEED, or a PNG/JPEG picture's path.
-    #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
-    background: String,
+    /// outdoor:SEED, ribs[:PERIOD_MM[:DARK:LIGHT]], or a PNG/JPEG picture's path. Default: the
+    /// world's own walls (fu2019: its ribs; lab: clutter:1). A texture given replaces the
+    /// world's walls and keeps the rest of it (size, wall height, floor, obstacles, contact).
+    #[arg(long, value_name = "SPEC")]
+    background: Option<String>,
     #[command(flatten)]
     sweep: SweepArgs,
     /// Write the results as JSON (with --shard: the shard file).
@@ -412,9 +424,11 @@ struct StimuliArgs {
 struct EvasionArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// Start distance of the obstacle, mm (centre to centre).
-    #[arg(long, default_value_t = evasion::DEFAULT_DISTANCE_MM, value_name = "MM")]
-    distance: f64,
+    /// Start distance of the obstacle, mm (centre to centre). Default: 500 where the stage
+    /// (the nine paths, the tested robot, its escape room) fits in the world, else the longest
+    /// in 10 mm steps that fits (fu2019: 450).
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    distance: Option<f64>,
     /// Speed of the obstacle, mm/s.
     #[arg(long, default_value_t = evasion::DEFAULT_SPEED_MM_S, value_name = "MM_S")]
     speed: f64,
@@ -507,10 +521,14 @@ impl ControllerArg {
 struct ArenaArgs {
     #[command(flatten)]
     trial: TrialArgs,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
-    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
-    /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
-    /// Default: clutter:1, stripes:40, checker:60.
+    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED,
+    /// ribs[:PERIOD_MM[:DARK:LIGHT]] (the number may be left out: grey 128, 40 mm, 40 mm, seed
+    /// 1, the replica's ribs), or a PNG/JPEG picture's path. A texture replaces the world's
+    /// walls and keeps the rest of it. Default: the world's own walls: fu2019 its ribs (one
+    /// background); lab clutter:1, stripes:40, checker:60.
     #[arg(long = "background", value_name = "SPEC")]
     backgrounds: Vec<String>,
     /// Controller to run (repeatable). Default: alvs and lgmd2.
@@ -1033,6 +1051,7 @@ fn stimuli_config(a: &StimuliArgs) -> Result<stimuli::StimuliConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     })
@@ -1053,6 +1072,7 @@ fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -1076,6 +1096,7 @@ fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig>
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -1098,6 +1119,7 @@ fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     })
@@ -1114,11 +1136,8 @@ fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
     Ok(ArenaConfig {
         robots: a.trial.robots,
         minutes: a.trial.minutes,
-        backgrounds: if a.backgrounds.is_empty() {
-            DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
-        } else {
-            a.backgrounds.clone()
-        },
+        world: a.world.builtin(),
+        backgrounds: a.backgrounds.clone(),
         controllers: if a.controllers.is_empty() {
             vec![Kind::Alvs, Kind::Lgmd2]
         } else {
