@@ -320,3 +320,55 @@ fn every_experiment_takes_world_and_refuses_an_unknown_one_in_one_line() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("does not fit in the fu2019 world"), "{err}");
 }
+
+/// `cargo alvs tables`: per experiment a markdown table with a row per seed and the pooled
+/// row, headed by the command that makes it; each row is the experiment's own run.
+#[test]
+fn tables_give_a_row_per_seed_under_the_command_that_makes_them() {
+    use alvs_host::experiments::tables::{tables, Experiment, TablesConfig};
+    let config = TablesConfig {
+        world: BuiltinWorld::Lab,
+        seeds: vec![1, 2],
+        experiments: vec![Experiment::Swarm, Experiment::Arena],
+        arena_minutes: 0.05,
+        swarm_minutes: 0.05,
+    };
+    let text = tables(&config, 2, &|_| {}).unwrap();
+    assert!(text.contains(
+        "`cargo alvs tables --world lab --seed 1 --seed 2 --experiment swarm --swarm-minutes 0.05`"
+    ));
+    assert!(
+        text.contains("--experiment arena --arena-minutes 0.05`"),
+        "{text}"
+    );
+    let rows = |first: &str| text.lines().filter(|l| l.starts_with(first)).count();
+    assert_eq!((rows("| 1 |"), rows("| 2 |")), (2, 2), "{text}");
+    assert_eq!(
+        (rows("| **all** |"), rows("| **pooled** |")),
+        (1, 1),
+        "{text}"
+    );
+    // the arena's row of seed 2 is the arena's own run
+    let r = arena::run(
+        &arena::ArenaConfig {
+            world: BuiltinWorld::Lab,
+            minutes: 0.05,
+            seed: 2,
+            ..arena::ArenaConfig::default()
+        },
+        2,
+        &|_| {},
+    )
+    .unwrap();
+    let alvs = &r.summaries[0];
+    let success = alvs
+        .success_rate
+        .map_or("–".into(), |r| format!("{:.1} %", 100.0 * r));
+    let cell = format!("| 2 | {success} ({}) |", alvs.encounters);
+    assert!(text.contains(&cell), "{cell}: {text}");
+    let bad = TablesConfig {
+        seeds: Vec::new(),
+        ..config
+    };
+    assert!(tables(&bad, 1, &|_| {}).is_err());
+}

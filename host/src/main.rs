@@ -118,6 +118,12 @@ enum Cmd {
     /// wall or obstacle, and the change from the unperturbed row. docs/robustness.md gives
     /// each perturbation's magnitude and its source.
     Robustness(RobustnessArgs),
+    /// The headline figures of stimuli, evasion, two-threats, arena and swarm in one world over
+    /// several seeds (the report seeds 11-20 by default), printed as the markdown tables of
+    /// docs/experiments.md: each row is the experiment's own default run in that world with
+    /// that seed (and the arena's paper row with --model paper), so one command regenerates a
+    /// table when the world changes. All five in fu2019 take about 25 minutes on one core.
+    Tables(TablesArgs),
     /// The real Colias recordings (fuqinbing/LGMD2-open-source, issue 29): extract the arena
     /// and the tracks from the tracker's snapshots, or show the committed statistics.
     Recordings {
@@ -209,6 +215,61 @@ struct ValidateArgs {
     /// speeds, and where the LGMD2 first alerts (docs/world.md, "What is left").
     #[arg(long)]
     approaches: bool,
+}
+
+#[derive(clap::Args)]
+struct TablesArgs {
+    #[command(flatten)]
+    world: WorldArgs,
+    /// Seeds (repeatable); one run of each experiment per seed. Default: 11-20 (the report
+    /// seeds; tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Experiment to tabulate (repeatable). Default: all five.
+    #[arg(long = "experiment", value_enum, value_name = "NAME")]
+    experiments: Vec<ExperimentArg>,
+    /// Simulated minutes of an arena trial (the arena's default: 10).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    arena_minutes: f64,
+    /// Simulated minutes of a swarm trial (the swarm's default: 5).
+    #[arg(
+        long,
+        default_value_t = 5.0,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    swarm_minutes: f64,
+    /// Threads of each run (default: the available parallelism); results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+}
+
+/// The experiments `tables` covers.
+#[derive(Clone, Copy, ValueEnum)]
+enum ExperimentArg {
+    Stimuli,
+    Evasion,
+    TwoThreats,
+    Arena,
+    Swarm,
+}
+
+impl ExperimentArg {
+    fn experiment(self) -> alvs_host::experiments::tables::Experiment {
+        use alvs_host::experiments::tables::Experiment;
+        match self {
+            ExperimentArg::Stimuli => Experiment::Stimuli,
+            ExperimentArg::Evasion => Experiment::Evasion,
+            ExperimentArg::TwoThreats => Experiment::TwoThreats,
+            ExperimentArg::Arena => Experiment::Arena,
+            ExperimentArg::Swarm => Experiment::Swarm,
+        }
+    }
 }
 
 /// Which recorded runs `validate` simulates.
@@ -839,6 +900,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
         Cmd::Robustness(a) => run_robustness(a),
+        Cmd::Tables(a) => run_tables(a),
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
@@ -1196,6 +1258,37 @@ fn run_robustness(a: RobustnessArgs) -> Result<()> {
         trace: None,
     };
     a.sweep.execute(&config, &out, config.total_frames())
+}
+
+fn run_tables(a: TablesArgs) -> Result<()> {
+    use alvs_host::experiments::tables::{self, TablesConfig};
+    let d = TablesConfig::default();
+    let config = TablesConfig {
+        world: a.world.builtin(),
+        seeds: if a.seeds.is_empty() { d.seeds } else { a.seeds },
+        experiments: if a.experiments.is_empty() {
+            d.experiments
+        } else {
+            a.experiments.iter().map(|e| e.experiment()).collect()
+        },
+        arena_minutes: a.arena_minutes,
+        swarm_minutes: a.swarm_minutes,
+    };
+    config.validate()?;
+    let jobs = jobs(a.jobs)?;
+    let t0 = std::time::Instant::now();
+    let text = tables::tables(&config, jobs, &|what| {
+        eprintln!("tables: {what} ({:.0} s)", t0.elapsed().as_secs_f64());
+    })?;
+    let mut out = std::io::stdout().lock();
+    write!(out, "{text}")?;
+    writeln!(
+        out,
+        "({:.0} s on {jobs} thread{})",
+        t0.elapsed().as_secs_f64(),
+        if jobs == 1 { "" } else { "s" }
+    )?;
+    Ok(())
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {

@@ -10,6 +10,7 @@
 //! | `arena`: robots wandering among each other and the walls, success rate and collisions | Figs. 5–6, Sec. III-C | [`arena`] |
 //! | `swarm`: six robots spinning on approach; spread of the group over time | Fig. 7, Sec. IV-D | [`swarm`] |
 //! | `robustness`: every controller in the validated world under a lab's and a robot's perturbations | issue 29 | [`robustness`] |
+//! | `tables`: the headline figures of experiments 1–5 in one world over seeds, as docs' markdown | issue 29 | [`tables`] |
 //!
 //! Every experiment runs in a built-in world (`--world`: the recorded arena's replica `fu2019`
 //! by default, or the `lab`; [`BuiltinWorld`]), its walls the world's own unless a background
@@ -37,6 +38,7 @@ pub mod stage;
 pub mod stimuli;
 pub mod swarm;
 pub mod sweep;
+pub mod tables;
 pub mod two_threats;
 pub mod validate;
 
