@@ -5,7 +5,7 @@
 use std::sync::OnceLock;
 
 use alvs_host::arena::contacts::{ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM};
-use alvs_host::arena::{Kind, World};
+use alvs_host::arena::{BuiltinWorld, Kind, World};
 use alvs_host::experiments::arena::{
     run, start_poses, trace_header, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
     START_WALL_CLEARANCE_MM,
@@ -24,6 +24,7 @@ fn short_config() -> ArenaConfig {
         backgrounds: vec!["clutter:1".into()],
         controllers: vec![Kind::Alvs, Kind::Lgmd2],
         seed: 7,
+        world: BuiltinWorld::Lab,
         ..ArenaConfig::default()
     }
 }
@@ -362,12 +363,13 @@ fn start_poses_keep_their_distances() {
 fn json_has_the_documented_keys() {
     let v = short_run().json();
     let top: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(top.len(), 5, "{top:?}");
-    for key in ["alvs", "lgmd2", "trials", "model", "fsm"] {
+    assert_eq!(top.len(), 6, "{top:?}");
+    for key in ["alvs", "lgmd2", "trials", "model", "fsm", "world"] {
         assert!(top.contains(&key), "{top:?}");
     }
     assert_eq!(v["model"], "alvs", "the default perception preset");
     assert_eq!(v["fsm"], "alvs", "the default motion preset");
+    assert_eq!(v["world"], "lab");
     for c in ["alvs", "lgmd2"] {
         let s = &v[c];
         for key in [
@@ -542,7 +544,7 @@ fn bad_arguments_are_one_clear_line_and_a_failure() {
         (&["--exposure", "-0.1"], "0..=1"),
         // refused before anything runs, not after a 10-minute run
         (&["--trace", "/nonexistent/dir/trace.csv"], "cannot write"),
-        (&["--minutes", "1000", "--trace", "t.csv"], "--trace"),
+        (&["--minutes", "2000", "--trace", "t.csv"], "--trace"),
     ];
     for (args, expect) in cases {
         let out = alvs()

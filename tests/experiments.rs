@@ -3,7 +3,7 @@
 //! whatever the number of threads, the documented JSON, and a command line that helps and
 //! fails cleanly. (Experiment 4, `arena`, is `arena_experiment.rs`.)
 
-use alvs_host::arena::Kind;
+use alvs_host::arena::{BuiltinWorld, Kind};
 use alvs_host::experiments::encounter::Side;
 use alvs_host::experiments::evasion::{self, EvasionConfig};
 use alvs_host::experiments::stimuli::{self, StimuliConfig};
@@ -34,6 +34,7 @@ fn alvs_only() -> Vec<Kind> {
 fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     let config = EvasionConfig {
         controllers: alvs_only(),
+        world: BuiltinWorld::Lab,
         ..EvasionConfig::default()
     };
     let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
@@ -80,6 +81,7 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
             controllers: alvs_only(),
             seed: 3,
             params,
+            world: BuiltinWorld::Lab,
             ..EvasionConfig::default()
         };
         evasion::run(&config, 2, &|_| {}).expect("a valid configuration")
@@ -110,6 +112,7 @@ fn a_blurred_camera_still_escapes_to_the_correct_side() {
         let config = EvasionConfig {
             controllers: alvs_only(),
             exposure,
+            world: BuiltinWorld::Lab,
             ..EvasionConfig::default()
         };
         evasion::run(&config, 2, &|_| {}).expect("a valid configuration")
@@ -137,6 +140,7 @@ fn a_held_robot_with_the_blocked_way_still_escapes_to_the_correct_side() {
     let config = EvasionConfig {
         controllers: alvs_only(),
         params,
+        world: BuiltinWorld::Lab,
         ..EvasionConfig::default()
     };
     let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
@@ -151,7 +155,8 @@ fn a_held_robot_with_the_blocked_way_still_escapes_to_the_correct_side() {
 fn on_plain_walls_alvs_collides_less_than_lgmd2() {
     let config = EvasionConfig {
         controllers: vec![Kind::Alvs, Kind::Lgmd2],
-        background: "plain:200".into(),
+        background: Some("plain:200".into()),
+        world: BuiltinWorld::Lab,
         ..EvasionConfig::default()
     };
     let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
@@ -170,6 +175,7 @@ fn the_faster_of_two_threats_wins() {
     let config = TwoThreatConfig {
         runs: 8,
         controllers: vec![Kind::Alvs, Kind::Lgmd2],
+        world: BuiltinWorld::Lab,
         ..TwoThreatConfig::default()
     };
     let r = two_threats::run(&config, 2, &|_| {}).expect("a valid configuration");
@@ -195,6 +201,7 @@ fn the_faster_of_two_threats_wins() {
 fn encounters_are_deterministic_by_seed_whatever_the_threads() {
     let config = TwoThreatConfig {
         runs: 3,
+        world: BuiltinWorld::Lab,
         ..TwoThreatConfig::default()
     };
     let a = two_threats::run(&config, 1, &|_| {}).unwrap().json();
@@ -212,7 +219,14 @@ fn encounters_are_deterministic_by_seed_whatever_the_threads() {
 /// (two at once for the double approach); a receding robot does not alert.
 #[test]
 fn stimuli_tell_approach_from_recession_and_count_the_objects() {
-    let r = stimuli::run(&StimuliConfig::default(), 2).expect("a valid configuration");
+    let r = stimuli::run(
+        &StimuliConfig {
+            world: BuiltinWorld::Lab,
+            ..StimuliConfig::default()
+        },
+        2,
+    )
+    .expect("a valid configuration");
     let table = r.table();
     let scene = |n: &str| r.scenes.iter().find(|s| s.name == n).expect(n);
     assert_eq!(r.scenes.len(), 5);
@@ -235,6 +249,7 @@ fn stimuli_tell_approach_from_recession_and_count_the_objects() {
 fn swarm_robots_spin_and_escaping_robots_do_not() {
     let config = SwarmConfig {
         minutes: 0.25,
+        world: BuiltinWorld::Lab,
         ..SwarmConfig::default()
     };
     let r = swarm::run(&config, 2, &|_| {}).expect("a valid configuration");
@@ -269,6 +284,7 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
                 look_every,
                 ..FsmParams::default()
             },
+            world: BuiltinWorld::Lab,
             ..SwarmConfig::default()
         };
         let t = one_swarm_trial(config);
@@ -308,6 +324,7 @@ fn a_swarm_leader_spins_in_place_beside_the_same_group() {
             robots,
             leader,
             seed: 2,
+            world: BuiltinWorld::Lab,
             ..SwarmConfig::default()
         };
         one_swarm_trial(config)
@@ -357,6 +374,7 @@ fn only_the_default_swarm_looks() {
             minutes: 0.5,
             params,
             fsm,
+            world: BuiltinWorld::Lab,
             ..SwarmConfig::default()
         };
         let t = one_swarm_trial(config);
@@ -393,6 +411,7 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
                 look_every: 0,
                 ..FsmParams::default()
             },
+            world: BuiltinWorld::Lab,
             ..SwarmConfig::default()
         };
         let t = one_swarm_trial(config);
@@ -415,7 +434,8 @@ fn cli_runs_an_experiment_and_writes_json_and_pictures() {
     let trace = dir.join("ev.csv");
     let out = succeed(
         alvs()
-            .args(["evasion", "--controller", "alvs", "--jobs", "2", "--json"])
+            .args(["evasion", "--world", "lab", "--controller", "alvs"])
+            .args(["--jobs", "2", "--json"])
             .arg(&json)
             .arg("--png")
             .arg(&dir)
@@ -546,6 +566,7 @@ fn a_two_minute_arena_has_consistent_counts() {
         backgrounds: vec!["clutter:1".into()],
         controllers: alvs_only(),
         seed: 5,
+        world: BuiltinWorld::Lab,
         ..ArenaConfig::default()
     };
     let r = arena::run(&config, 1, &|_| {}).expect("a valid configuration");

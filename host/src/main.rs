@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_host::arena::{BuiltinWorld, Kind};
-use alvs_host::experiments::arena::{self, ArenaConfig, DEFAULT_BACKGROUNDS};
+use alvs_host::experiments::arena::{self, ArenaConfig};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
 use alvs_host::experiments::sweep::{Shard, Sweep};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
@@ -118,6 +118,12 @@ enum Cmd {
     /// wall or obstacle, and the change from the unperturbed row. docs/robustness.md gives
     /// each perturbation's magnitude and its source.
     Robustness(RobustnessArgs),
+    /// The headline figures of stimuli, evasion, two-threats, arena and swarm in one world over
+    /// several seeds (the report seeds 11-20 by default), printed as the markdown tables of
+    /// docs/experiments.md: each row is the experiment's own default run in that world with
+    /// that seed (and the arena's paper row with --model paper), so one command regenerates a
+    /// table when the world changes. All five in fu2019 take about 25 minutes on one core.
+    Tables(TablesArgs),
     /// The real Colias recordings (fuqinbing/LGMD2-open-source, issue 29): extract the arena
     /// and the tracks from the tracker's snapshots, or show the committed statistics.
     Recordings {
@@ -142,7 +148,7 @@ enum Cmd {
     Log(log_command::LogArgs),
 }
 
-/// The simulated worlds `validate` and `robustness` can drive in.
+/// The simulated worlds every experiment can run in.
 #[derive(Clone, Copy, ValueEnum)]
 enum WorldChoice {
     /// The recorded arena's replica (`arena::replica`): its size, low ribbed walls, dark
@@ -152,9 +158,19 @@ enum WorldChoice {
     Lab,
 }
 
-impl WorldChoice {
-    fn builtin(self) -> BuiltinWorld {
-        match self {
+/// `--world`, which every experiment takes.
+#[derive(clap::Args)]
+struct WorldArgs {
+    /// The world: fu2019, the replica of the recorded LGMD2 arena (1309 x 751 mm, 72 mm ribbed
+    /// walls, a dark floor, 15 cylinder obstacles, the calibrated contact), or lab, the
+    /// built-in 1200 x 900 mm arena with 250 mm walls and rigid contact (docs/world.md).
+    #[arg(long, value_enum, default_value = "fu2019")]
+    world: WorldChoice,
+}
+
+impl WorldArgs {
+    fn builtin(&self) -> BuiltinWorld {
+        match self.world {
             WorldChoice::Fu2019 => BuiltinWorld::Fu2019,
             WorldChoice::Lab => BuiltinWorld::Lab,
         }
@@ -163,9 +179,8 @@ impl WorldChoice {
 
 #[derive(clap::Args)]
 struct ValidateArgs {
-    /// The world the simulated robot drives in.
-    #[arg(long, value_enum, default_value = "fu2019")]
-    world: WorldChoice,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Seeds of the simulations (repeatable); one simulation per recorded run and seed.
     /// Default: 11, 12, 13 (report seeds: tuning uses 1-5).
     #[arg(long = "seed", value_name = "S")]
@@ -232,6 +247,61 @@ fn validate_turn_cost() -> f64 {
     alvs_host::experiments::validate::TURN_COST_S
 }
 
+#[derive(clap::Args)]
+struct TablesArgs {
+    #[command(flatten)]
+    world: WorldArgs,
+    /// Seeds (repeatable); one run of each experiment per seed. Default: 11-20 (the report
+    /// seeds; tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Experiment to tabulate (repeatable). Default: all five.
+    #[arg(long = "experiment", value_enum, value_name = "NAME")]
+    experiments: Vec<ExperimentArg>,
+    /// Simulated minutes of an arena trial (the arena's default: 10).
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    arena_minutes: f64,
+    /// Simulated minutes of a swarm trial (the swarm's default: 5).
+    #[arg(
+        long,
+        default_value_t = 5.0,
+        value_name = "M",
+        allow_negative_numbers = true
+    )]
+    swarm_minutes: f64,
+    /// Threads of each run (default: the available parallelism); results do not depend on it.
+    #[arg(long, value_name = "J")]
+    jobs: Option<usize>,
+}
+
+/// The experiments `tables` covers.
+#[derive(Clone, Copy, ValueEnum)]
+enum ExperimentArg {
+    Stimuli,
+    Evasion,
+    TwoThreats,
+    Arena,
+    Swarm,
+}
+
+impl ExperimentArg {
+    fn experiment(self) -> alvs_host::experiments::tables::Experiment {
+        use alvs_host::experiments::tables::Experiment;
+        match self {
+            ExperimentArg::Stimuli => Experiment::Stimuli,
+            ExperimentArg::Evasion => Experiment::Evasion,
+            ExperimentArg::TwoThreats => Experiment::TwoThreats,
+            ExperimentArg::Arena => Experiment::Arena,
+            ExperimentArg::Swarm => Experiment::Swarm,
+        }
+    }
+}
+
 /// Which recorded runs `validate` simulates.
 #[derive(Clone, Copy, ValueEnum)]
 enum RunsArg {
@@ -242,9 +312,8 @@ enum RunsArg {
 
 #[derive(clap::Args)]
 struct RobustnessArgs {
-    /// The world the robots drive in.
-    #[arg(long, value_enum, default_value = "fu2019")]
-    world: WorldChoice,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Seeds (repeatable); every perturbation and controller runs each. Default: 11-20 (the
     /// report seeds; tuning uses 1-5).
     #[arg(long = "seed", value_name = "S")]
@@ -364,10 +433,14 @@ struct CommonArgs {
     /// Seed of everything random (noise, geometry, LGMD2's turns).
     #[arg(long, default_value_t = 1, value_name = "S")]
     seed: u64,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Wall texture: plain:GREY, stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED,
-    /// outdoor:SEED, or a PNG/JPEG picture's path.
-    #[arg(long, default_value = "clutter:1", value_name = "SPEC")]
-    background: String,
+    /// outdoor:SEED, ribs[:PERIOD_MM[:DARK:LIGHT]], or a PNG/JPEG picture's path. Default: the
+    /// world's own walls (fu2019: its ribs; lab: clutter:1). A texture given replaces the
+    /// world's walls and keeps the rest of it (size, wall height, floor, obstacles, contact).
+    #[arg(long, value_name = "SPEC")]
+    background: Option<String>,
     #[command(flatten)]
     sweep: SweepArgs,
     /// Write the results as JSON (with --shard: the shard file).
@@ -442,9 +515,11 @@ struct StimuliArgs {
 struct EvasionArgs {
     #[command(flatten)]
     common: CommonArgs,
-    /// Start distance of the obstacle, mm (centre to centre).
-    #[arg(long, default_value_t = evasion::DEFAULT_DISTANCE_MM, value_name = "MM")]
-    distance: f64,
+    /// Start distance of the obstacle, mm (centre to centre). Default: 500 where the stage
+    /// (the nine paths, the tested robot, its escape room) fits in the world, else the longest
+    /// in 10 mm steps that fits (fu2019: 450).
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    distance: Option<f64>,
     /// Speed of the obstacle, mm/s.
     #[arg(long, default_value_t = evasion::DEFAULT_SPEED_MM_S, value_name = "MM_S")]
     speed: f64,
@@ -537,10 +612,14 @@ impl ControllerArg {
 struct ArenaArgs {
     #[command(flatten)]
     trial: TrialArgs,
+    #[command(flatten)]
+    world: WorldArgs,
     /// Wall texture (repeatable; one trial per background and controller): plain:GREY,
-    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED (the number may be left
-    /// out: grey 128, 40 mm, 40 mm, seed 1), or a PNG/JPEG picture's path.
-    /// Default: clutter:1, stripes:40, checker:60.
+    /// stripes:PERIOD_MM, checker:SIZE_MM, clutter:SEED, outdoor:SEED,
+    /// ribs[:PERIOD_MM[:DARK:LIGHT]] (the number may be left out: grey 128, 40 mm, 40 mm, seed
+    /// 1, the replica's ribs), or a PNG/JPEG picture's path. A texture replaces the world's
+    /// walls and keeps the rest of it. Default: the world's own walls: fu2019 its ribs (one
+    /// background); lab clutter:1, stripes:40, checker:60.
     #[arg(long = "background", value_name = "SPEC")]
     backgrounds: Vec<String>,
     /// Controller to run (repeatable). Default: alvs and lgmd2.
@@ -851,6 +930,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
         Cmd::Robustness(a) => run_robustness(a),
+        Cmd::Tables(a) => run_tables(a),
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
         Cmd::Virtual { args } => run_cycles_bin("alvs-virtual", &args),
@@ -1102,6 +1182,7 @@ fn stimuli_config(a: &StimuliArgs) -> Result<stimuli::StimuliConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     })
@@ -1122,6 +1203,7 @@ fn evasion_config(a: &EvasionArgs) -> Result<evasion::EvasionConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -1145,6 +1227,7 @@ fn two_threats_config(a: &TwoThreatArgs) -> Result<two_threats::TwoThreatConfig>
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
         trace: a.trace.is_some(),
@@ -1167,6 +1250,7 @@ fn swarm_config(a: &SwarmArgs) -> Result<swarm::SwarmConfig> {
         seed: a.common.seed,
         params: parse_params(a.common.model, &a.common.params)?,
         fsm: parse_fsm(a.common.model, &a.common.fsm)?,
+        world: a.common.world.builtin(),
         background: a.common.background.clone(),
         exposure: a.common.camera.exposure,
     })
@@ -1183,11 +1267,8 @@ fn arena_config(a: &ArenaArgs) -> Result<ArenaConfig> {
     Ok(ArenaConfig {
         robots: a.trial.robots,
         minutes: a.trial.minutes,
-        backgrounds: if a.backgrounds.is_empty() {
-            DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect()
-        } else {
-            a.backgrounds.clone()
-        },
+        world: a.world.builtin(),
+        backgrounds: a.backgrounds.clone(),
         controllers: if a.controllers.is_empty() {
             vec![Kind::Alvs, Kind::Lgmd2]
         } else {
@@ -1246,6 +1327,37 @@ fn run_robustness(a: RobustnessArgs) -> Result<()> {
         trace: None,
     };
     a.sweep.execute(&config, &out, config.total_frames())
+}
+
+fn run_tables(a: TablesArgs) -> Result<()> {
+    use alvs_host::experiments::tables::{self, TablesConfig};
+    let d = TablesConfig::default();
+    let config = TablesConfig {
+        world: a.world.builtin(),
+        seeds: if a.seeds.is_empty() { d.seeds } else { a.seeds },
+        experiments: if a.experiments.is_empty() {
+            d.experiments
+        } else {
+            a.experiments.iter().map(|e| e.experiment()).collect()
+        },
+        arena_minutes: a.arena_minutes,
+        swarm_minutes: a.swarm_minutes,
+    };
+    config.validate()?;
+    let jobs = jobs(a.jobs)?;
+    let t0 = std::time::Instant::now();
+    let text = tables::tables(&config, jobs, &|what| {
+        eprintln!("tables: {what} ({:.0} s)", t0.elapsed().as_secs_f64());
+    })?;
+    let mut out = std::io::stdout().lock();
+    write!(out, "{text}")?;
+    writeln!(
+        out,
+        "({:.0} s on {jobs} thread{})",
+        t0.elapsed().as_secs_f64(),
+        if jobs == 1 { "" } else { "s" }
+    )?;
+    Ok(())
 }
 
 fn run_recordings(cmd: RecordingsCmd) -> Result<()> {

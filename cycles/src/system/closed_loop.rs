@@ -211,8 +211,8 @@ pub struct Evasion {
     pub error: Option<String>,
 }
 
-/// The evasion trial of `cargo alvs evasion` (obstacle from `bearing_deg` at 500 mm, 100 mm/s,
-/// realistic motors and camera) with the firmware as the tested robot's brain.
+/// The evasion trial of `cargo alvs evasion --world lab` (obstacle from `bearing_deg` at 500
+/// mm, 100 mm/s, realistic motors and camera) with the firmware as the tested robot's brain.
 pub fn evasion_trial(
     elf: Vec<u8>,
     config: Config,
@@ -233,7 +233,9 @@ pub fn evasion_trial(
         seed,
         params: alvs_tasks::Params::ALVS,
         fsm: alvs_tasks::model::fsm::FsmParams::default(),
-        texture,
+        // the lab as `cargo alvs evasion --world lab` stages it (its designed start)
+        world: alvs_host::arena::World::with_texture(texture),
+        start: encounter::tested_start(),
         noise: true,
         exposure: 0.0,
         trace: false,

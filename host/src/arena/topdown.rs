@@ -7,7 +7,7 @@
 use crate::canvas::{Canvas, Rgb};
 
 use super::render::HFOV_DEG;
-use super::world::{Arena, Pose, ROBOT_RADIUS_MM};
+use super::world::{Arena, Obstacle, Pose, World, ROBOT_RADIUS_MM};
 
 /// Canvas pixels around the arena.
 const MARGIN: i32 = 12;
@@ -17,6 +17,7 @@ const OUTSIDE: Rgb = [255, 255, 255];
 const FLOOR: Rgb = [236, 236, 230];
 const WALL: Rgb = [60, 60, 60];
 const INK: Rgb = [20, 20, 20];
+const OBSTACLE: Rgb = [120, 120, 120];
 
 /// What a [`TopDown`] draws, and so how it is finished.
 #[derive(Debug, Clone)]
@@ -70,6 +71,13 @@ impl TopDown {
             corner_mm: (0.0, 0.0),
             view: View::Arena,
         }
+    }
+
+    /// `world`'s arena drawn at `px_per_mm` ([`TopDown::new`]) with its obstacles.
+    pub fn of_world(world: &World, px_per_mm: f64) -> Self {
+        let mut td = TopDown::new(&world.arena, px_per_mm);
+        td.obstacles(&world.obstacles);
+        td
     }
 
     /// A close-up of the arena's rectangle from `(x_mm, y_mm)` (its top left corner), `w_mm`
@@ -139,11 +147,10 @@ impl TopDown {
         }
     }
 
-    /// A robot: filled disc of the body's size, dark outline, and a line from the centre to the
-    /// front along the heading.
-    pub fn robot(&mut self, pose: &Pose, colour: Rgb) {
-        let (cx, cy) = self.to_px(pose.x_mm, pose.y_mm);
-        let r = (ROBOT_RADIUS_MM * self.px_per_mm).max(2.0);
+    /// A filled disc of radius `radius_mm` at (x, y) mm with a dark outline.
+    fn disc(&mut self, x_mm: f64, y_mm: f64, radius_mm: f64, colour: Rgb) {
+        let (cx, cy) = self.to_px(x_mm, y_mm);
+        let r = (radius_mm * self.px_per_mm).max(2.0);
         let ri = r.ceil() as i32;
         for dy in -ri..=ri {
             for dx in -ri..=ri {
@@ -154,6 +161,20 @@ impl TopDown {
                 }
             }
         }
+    }
+
+    /// Static obstacles: grey discs of their size.
+    pub fn obstacles(&mut self, obstacles: &[Obstacle]) {
+        for o in obstacles {
+            self.disc(o.x_mm, o.y_mm, o.radius_mm, OBSTACLE);
+        }
+    }
+
+    /// A robot: filled disc of the body's size, dark outline, and a line from the centre to the
+    /// front along the heading.
+    pub fn robot(&mut self, pose: &Pose, colour: Rgb) {
+        self.disc(pose.x_mm, pose.y_mm, ROBOT_RADIUS_MM, colour);
+        let (cx, cy) = self.to_px(pose.x_mm, pose.y_mm);
         let (fx, fy) = pose.offset(ROBOT_RADIUS_MM, 0.0);
         let (ex, ey) = self.to_px(fx, fy);
         self.canvas.line(cx, cy, ex, ey, INK);

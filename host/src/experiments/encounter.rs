@@ -6,8 +6,11 @@
 //! # Geometry
 //!
 //! The tested robot starts at [`TESTED_START`] facing +x (towards the far, right-hand wall of
-//! the default arena, 750 mm away), so that obstacles up to 550 mm away at ±35° fit in the arena
-//! and it has 450 mm of floor behind it to escape into. Obstacle `k` starts `distance_mm` away at
+//! the `lab` arena, 750 mm away), so that obstacles up to 550 mm away at ±35° fit in the arena
+//! and it has 450 mm of floor behind it to escape into. That is the design; the experiment
+//! puts its stage ([`tested_stage`]: the obstacles' paths, the tested robot and
+//! [`ESCAPE_ROOM_MM`] behind it) where it fits in its world ([`super::stage`]), which in the
+//! `lab` is there. Obstacle `k` starts `distance_mm` away at
 //! `bearing_deg` (positive = right of the tested robot's heading, inside its 70° field of view),
 //! faces the tested robot's start and drives at `speed_mm_s` until its centre reaches that point,
 //! where it stops: it does not chase an evader. The trial lasts until the last obstacle has
@@ -27,14 +30,19 @@
 
 use alvs_tasks::Params;
 
+use super::stage::{Shape, Stage};
 use crate::arena::controller::{Approach, Controller, HoldUntilAlert};
 use crate::arena::{
     Command, ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, Seen,
-    SensorNoise, Sim, WallTexture, World, FRAME_DT_S,
+    SensorNoise, Sim, World, FRAME_DT_S,
 };
 
-/// Where the tested robot starts (x mm, y mm, heading °) in the default arena.
+/// Where the tested robot starts (x mm, y mm, heading °) as designed, in the `lab` arena.
 pub const TESTED_START: (f64, f64, f64) = (450.0, 450.0, 0.0);
+/// Floor the tested robot keeps free behind it to escape into, mm, within ±35° of straight
+/// back (where the escape from an obstacle in its view goes): one second of the escape at its
+/// top speed, 200 mm/s (`FsmParams::max_escape_mm_s`), the least an escape lasts.
+pub const ESCAPE_ROOM_MM: f64 = 200.0;
 /// Simulated time after the last obstacle's arrival, s: long enough for a takeoff and an
 /// escape to play out.
 pub const AFTER_ARRIVAL_S: f64 = 2.0;
@@ -123,8 +131,11 @@ pub struct Encounter {
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
     pub fsm: alvs_tasks::model::fsm::FsmParams,
-    /// Wall texture.
-    pub texture: WallTexture,
+    /// The world, its walls included.
+    pub world: World,
+    /// Where the tested robot starts ([`tested_start`] as designed; the experiment's
+    /// placement of its stage in `world`).
+    pub start: Pose,
     /// Realistic motors, gyro and camera (as the arena); `false` = ideal.
     pub noise: bool,
     /// The tested robot's camera exposure as a fraction of the 33 ms frame period (0 =
@@ -133,6 +144,73 @@ pub struct Encounter {
     pub exposure: f32,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
+}
+
+impl Encounter {
+    /// The encounter every trial of a run shares, with the tested robot's controller, the
+    /// threats and the seed still to set (`Encounter { kind, threats, seed, ..base }`): the
+    /// staged world and start, the model, realistic noise, the camera's `exposure`, `trace`.
+    pub fn staged(
+        staged: super::stage::Staged,
+        params: Params,
+        fsm: alvs_tasks::model::fsm::FsmParams,
+        exposure: f32,
+        trace: bool,
+    ) -> Encounter {
+        Encounter {
+            kind: Kind::Alvs,
+            threats: Vec::new(),
+            seed: 0,
+            params,
+            fsm,
+            world: staged.world,
+            start: staged.placement.pose,
+            noise: true,
+            exposure,
+            trace,
+        }
+    }
+}
+
+/// Where an encounter experiment ran, as its report says it: the world, the background its
+/// walls showed (`None`: their own), the seed and where the tested robot stood.
+#[derive(Debug, Clone)]
+pub struct Setting {
+    /// The world.
+    pub world: crate::arena::BuiltinWorld,
+    /// The background given, if any.
+    pub background: Option<String>,
+    /// The seed.
+    pub seed: u64,
+    /// Where the stage stood.
+    pub placement: super::stage::Placement,
+}
+
+impl Setting {
+    /// `config` (a JSON object) with `seed`, `world`, `background` and `start` (the
+    /// placement) added.
+    pub fn json(&self, mut config: serde_json::Value) -> serde_json::Value {
+        if let Some(m) = config.as_object_mut() {
+            m.insert("seed".into(), self.seed.into());
+            m.insert("world".into(), self.world.label().into());
+            let background = self.world.background(self.background.as_deref());
+            m.insert("background".into(), background.into());
+            m.insert("start".into(), self.placement.json());
+        }
+        config
+    }
+
+    /// The end of the table's title line (`world W, background B, seed S, T s`) and the
+    /// line after it, where the tested robot stood.
+    pub fn title(&self, wall_clock_s: f64) -> String {
+        format!(
+            "world {}, background {}, seed {}, {wall_clock_s:.1} s\ntested robot {}\n",
+            self.world.label(),
+            self.world.background(self.background.as_deref()),
+            self.seed,
+            self.placement.describe()
+        )
+    }
 }
 
 /// A trial's outcome and its `--trace` rows with their CSV leading fields. Only the outcome
@@ -292,9 +370,36 @@ pub fn write_csv<'a, L: std::fmt::Display + 'a>(
     write().with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// The tested robot's start pose.
+/// The tested robot's start pose as designed (in the `lab`).
 pub fn tested_start() -> Pose {
     Pose::new(TESTED_START.0, TESTED_START.1, TESTED_START.2)
+}
+
+/// The stage of an encounter whose obstacles drive along `approaches` (shapes in the tested
+/// robot's frame): those, the tested robot standing, and [`ESCAPE_ROOM_MM`] behind it within
+/// ±35° of straight back.
+pub fn tested_stage(approaches: impl IntoIterator<Item = Shape>) -> Stage {
+    let mut shapes: Vec<Shape> = approaches.into_iter().collect();
+    shapes.push(Shape::Path {
+        from: (0.0, 0.0),
+        to: (0.0, 0.0),
+    });
+    shapes.push(Shape::Sector {
+        mid_deg: 180.0,
+        half_deg: 35.0,
+        radius_mm: ESCAPE_ROOM_MM,
+    });
+    Stage { shapes }
+}
+
+/// The path of an obstacle starting `distance_mm` away at `bearing_deg` towards the tested
+/// robot, in its frame.
+pub fn approach_path(bearing_deg: f64, distance_mm: f64) -> Shape {
+    let b = bearing_deg.to_radians();
+    Shape::Path {
+        from: (distance_mm * b.cos(), distance_mm * b.sin()),
+        to: (0.0, 0.0),
+    }
 }
 
 /// Camera frames an encounter with `threats` lasts.
@@ -305,6 +410,21 @@ pub fn frames_of(threats: &[Threat]) -> u64 {
         .max()
         .unwrap_or(0);
     arrive + (AFTER_ARRIVAL_S / FRAME_DT_S).round() as u64
+}
+
+/// Runs one encounter and keeps what the experiment reports of it (`outcome`) with its
+/// trace, whose CSV rows `lead` leads; `progress` is told of simulated frames.
+pub fn run_traced<T>(
+    e: &Encounter,
+    lead: String,
+    progress: &(dyn Fn(u64) + Sync),
+    outcome: impl FnOnce(&EncounterResult) -> T,
+) -> Traced<T> {
+    let r = run(e, progress);
+    Traced {
+        outcome: outcome(&r),
+        trace: (lead, r.trace),
+    }
 }
 
 /// Runs one encounter; `progress` is told of simulated frames.
@@ -320,11 +440,10 @@ pub fn run_with(
     controller: Box<dyn Controller>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> EncounterResult {
-    let world = World::with_texture(e.texture.clone());
-    let mut sim = Sim::new(&world, e.seed);
+    let mut sim = Sim::new(&e.world, e.seed);
     let (motor, gyro, mut noise) = crate::arena::robot_noise(e.noise);
     noise.exposure = e.exposure;
-    let start = tested_start();
+    let start = e.start;
     let tested = HoldUntilAlert::new(controller);
     sim.add(start, Box::new(tested), motor, gyro, noise);
     for t in &e.threats {

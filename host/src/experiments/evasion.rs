@@ -4,7 +4,12 @@
 //! escape to the side away from the obstacle, and did it collide? ALVS and LGMD2 meet the same
 //! obstacles with the same seeds.
 //!
-//! The geometry and outcome are [`super::encounter`]'s. The **correct side** for an obstacle on
+//! The geometry and outcome are [`super::encounter`]'s. The stage (the nine paths, the tested
+//! robot and its escape room) stands as designed in the `lab`; in another world where it fits
+//! with the most room ([`super::stage`]), with the obstacle [`DEFAULT_DISTANCE_MM`] away or,
+//! where that does not fit, the longest distance in [`DISTANCE_STEP_MM`] steps that does.
+//!
+//! The **correct side** for an obstacle on
 //! the right (positive bearing) is an escape turn to the left and vice versa; for the obstacle
 //! dead ahead (0°) both sides are away from it, and the trial counts as correct when the robot
 //! turned at least 90° either way (it faces away from the threat).
@@ -17,9 +22,10 @@ use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
 use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use super::stage::{Placement, Stage, Staged, MIN_CLEARANCE_MM};
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::{Kind, Rng, TopDown, WallTexture, World};
+use crate::arena::{BuiltinWorld, Kind, Rng, TopDown};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
 /// Start distance of the obstacle, mm (centre to centre): about 12 robot diameters, so the
@@ -31,14 +37,19 @@ pub const DEFAULT_DISTANCE_MM: f64 = 500.0;
 pub const DEFAULT_SPEED_MM_S: f64 = 100.0;
 /// Widest bearing, degrees: the edge of the 70° field of view (paper: −35°..35°).
 pub const MAX_BEARING_DEG: f64 = 35.0;
+/// Steps of the start distance when [`DEFAULT_DISTANCE_MM`] does not fit in the world, mm.
+pub const DISTANCE_STEP_MM: f64 = 10.0;
+/// Shortest start distance, mm (`--distance`).
+pub const MIN_DISTANCE_MM: f64 = 60.0;
 
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct EvasionConfig {
     /// Bearings, evenly spaced over −35°..35° (9 in the paper).
     pub angles: usize,
-    /// Start distance of the obstacle, mm.
-    pub distance_mm: f64,
+    /// Start distance of the obstacle, mm; `None`: [`DEFAULT_DISTANCE_MM`] where the stage
+    /// fits, else the longest that fits ([`EvasionConfig::placement`]).
+    pub distance_mm: Option<f64>,
     /// Speed of the obstacle, mm/s.
     pub speed_mm_s: f64,
     /// Controllers of the tested robot.
@@ -51,8 +62,10 @@ pub struct EvasionConfig {
     pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
     pub trace: bool,
-    /// Wall texture specification.
-    pub background: String,
+    /// The world.
+    pub world: BuiltinWorld,
+    /// Wall texture specification; `None`: the world's own walls.
+    pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`crate::arena::SensorNoise::exposure`]).
@@ -63,14 +76,15 @@ impl Default for EvasionConfig {
     fn default() -> Self {
         EvasionConfig {
             angles: 9,
-            distance_mm: DEFAULT_DISTANCE_MM,
+            distance_mm: None,
             speed_mm_s: DEFAULT_SPEED_MM_S,
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
-            background: "clutter:1".into(),
+            world: BuiltinWorld::Fu2019,
+            background: None,
             exposure: 0.0,
         }
     }
@@ -82,38 +96,72 @@ impl EvasionConfig {
         bearings(self.angles)
     }
 
-    /// Checks the configuration and reads the background (one error line).
-    pub fn validate(&self) -> Result<WallTexture> {
+    /// The stage of an obstacle `distance_mm` away from every bearing.
+    pub fn stage(&self, distance_mm: f64) -> Stage {
+        encounter::tested_stage(
+            self.bearings()
+                .into_iter()
+                .map(|b| encounter::approach_path(b, distance_mm)),
+        )
+    }
+
+    /// The obstacle's start distance and where the stage stands in the world: at `distance_mm`
+    /// if given, else at [`DEFAULT_DISTANCE_MM`] or, where that does not fit with
+    /// [`MIN_CLEARANCE_MM`] to spare, the longest distance in [`DISTANCE_STEP_MM`] steps that
+    /// does (down to [`MIN_DISTANCE_MM`]). Whether it fits is [`EvasionConfig::validate`]'s.
+    pub fn placement(&self) -> (f64, Placement) {
+        let world = self.world.world();
+        let place = |d: f64| self.stage(d).place(&world, encounter::tested_start());
+        if let Some(d) = self.distance_mm {
+            return (d, place(d));
+        }
+        let mut d = DEFAULT_DISTANCE_MM;
+        loop {
+            let p = place(d);
+            if p.clearance_mm >= MIN_CLEARANCE_MM || d - DISTANCE_STEP_MM < MIN_DISTANCE_MM {
+                return (d, p);
+            }
+            d -= DISTANCE_STEP_MM;
+        }
+    }
+
+    /// Checks the configuration, the background and that the stage fits (one error line);
+    /// gives the start distance and the world with its walls and where the stage stands.
+    pub fn validate(&self) -> Result<(f64, Staged)> {
         ensure!(
             (1..=181).contains(&self.angles),
             "--angles must be 1..=181, got {}",
             self.angles
         );
-        ensure!(
-            self.distance_mm.is_finite() && (60.0..=550.0).contains(&self.distance_mm),
-            "--distance must be 60..=550 mm (the obstacle must start clear of the tested robot \
-             and inside the arena), got {}",
-            self.distance_mm
-        );
+        if let Some(d) = self.distance_mm {
+            ensure!(
+                d.is_finite() && (MIN_DISTANCE_MM..=550.0).contains(&d),
+                "--distance must be 60..=550 mm (the obstacle must start clear of the tested \
+                 robot and inside the arena), got {d}"
+            );
+        }
         ensure!(
             self.speed_mm_s.is_finite() && (10.0..=400.0).contains(&self.speed_mm_s),
             "--speed must be 10..=400 mm/s, got {}",
             self.speed_mm_s
         );
         super::validate_setup(&self.controllers, &self.params)?;
-        super::texture(&self.background)
+        let (d, p) = self.placement();
+        let what = format!("the evasion's stage (the obstacle {d} mm away)");
+        let staged = p.staged(self.world, self.background.as_deref(), &what)?;
+        Ok((d, staged))
     }
 
     /// Camera frames of one controller's trials (for a progress bar).
     pub fn total_frames(&self) -> u64 {
-        let t = self.threat(0.0);
+        let t = self.threat(0.0, self.placement().0);
         encounter::frames_of(&[t]) * self.angles as u64 * self.controllers.len() as u64
     }
 
-    fn threat(&self, bearing_deg: f64) -> Threat {
+    fn threat(&self, bearing_deg: f64, distance_mm: f64) -> Threat {
         Threat {
             bearing_deg,
-            distance_mm: self.distance_mm,
+            distance_mm,
             speed_mm_s: self.speed_mm_s,
         }
     }
@@ -233,6 +281,10 @@ impl ControllerEvasion {
 pub struct EvasionReport {
     /// What ran.
     pub config: EvasionConfig,
+    /// The obstacle's start distance, mm.
+    pub distance_mm: f64,
+    /// Where it ran, the stage's placement included.
+    pub setting: encounter::Setting,
     /// One per controller, in the configuration's order.
     pub controllers: Vec<ControllerEvasion>,
     /// Wall-clock seconds.
@@ -266,7 +318,8 @@ impl Sweep for EvasionConfig {
         shard: Option<Shard>,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, Self::Trial)>> {
-        let texture = self.validate()?;
+        let (distance, staged) = self.validate()?;
+        let base = Encounter::staged(staged, self.params, self.fsm, self.exposure, self.trace);
         let bearings = self.bearings();
         parallel::slice(self.trial_count(), jobs, shard, |i| {
             let (kind, b) = (
@@ -275,23 +328,15 @@ impl Sweep for EvasionConfig {
             );
             let e = Encounter {
                 kind,
-                threats: vec![self.threat(b)],
+                threats: vec![self.threat(b, distance)],
                 // each bearing its own noise and LGMD2 turn, the same for every controller
                 seed: Rng::new(self.seed)
                     .fork((i % bearings.len()) as u64)
                     .next_u64(),
-                params: self.params,
-                fsm: self.fsm,
-                texture: texture.clone(),
-                noise: true,
-                exposure: self.exposure,
-                trace: self.trace,
+                ..base.clone()
             };
-            let r = encounter::run(&e, progress);
-            Traced {
-                outcome: AngleOutcome::new(b, &r),
-                trace: (format!("{},{b:.2}", kind.name()), r.trace),
-            }
+            let lead = format!("{},{b:.2}", kind.name());
+            encounter::run_traced(&e, lead, progress, |r| AngleOutcome::new(b, r))
         })
     }
 
@@ -318,8 +363,16 @@ impl Sweep for EvasionConfig {
                 }
             })
             .collect();
+        let (distance_mm, placement) = self.placement();
         EvasionReport {
             config: self.clone(),
+            distance_mm,
+            setting: encounter::Setting {
+                world: self.world,
+                background: self.background.clone(),
+                seed: self.seed,
+                placement,
+            },
             controllers,
             wall_clock_s,
             traces,
@@ -335,12 +388,10 @@ impl Report for EvasionReport {
             self.controllers
                 .iter()
                 .map(|c| (c.controller.to_string(), c)),
-            serde_json::json!({
-                "distance_mm": cfg.distance_mm,
+            self.setting.json(serde_json::json!({
+                "distance_mm": self.distance_mm,
                 "speed_mm_s": cfg.speed_mm_s,
-                "seed": cfg.seed,
-                "background": cfg.background,
-            }),
+            })),
         )
     }
 
@@ -349,10 +400,13 @@ impl Report for EvasionReport {
         use std::fmt::Write;
         let c = &self.config;
         let mut out = String::new();
-        let _ = writeln!(
+        let _ = write!(
             out,
-            "evasion: obstacle from {} bearings, {} mm away at {} mm/s, background {}, seed {}, {:.1} s",
-            c.angles, c.distance_mm, c.speed_mm_s, c.background, c.seed, self.wall_clock_s
+            "evasion: obstacle from {} bearings, {} mm away at {} mm/s, {}",
+            c.angles,
+            self.distance_mm,
+            c.speed_mm_s,
+            self.setting.title(self.wall_clock_s)
         );
         let _ = writeln!(
             out,
@@ -416,7 +470,11 @@ impl Report for EvasionReport {
     /// per bearing) and the obstacles' paths in grey.
     fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let rows: Vec<Canvas> = self.controllers.iter().map(panel).collect();
+        let rows: Vec<Canvas> = self
+            .controllers
+            .iter()
+            .map(|ce| panel(ce, &self.setting))
+            .collect();
         let c = Canvas::stacked(&rows);
         let path = dir.join("evasion.png");
         c.save_png(&path)
@@ -449,9 +507,9 @@ const CLOSE_UP_PX_PER_MM: f64 = 2.5;
 
 /// One controller's trials: the arena from above, and a close-up around the start where the
 /// shapes of the escapes show (a γ path: reversing while turning, then forward).
-fn panel(ce: &ControllerEvasion) -> Canvas {
-    let arena = World::default().arena;
-    let mut whole = TopDown::new(&arena, 0.6);
+fn panel(ce: &ControllerEvasion, setting: &encounter::Setting) -> Canvas {
+    let (world, start) = (setting.world.world(), &setting.placement.pose);
+    let mut whole = TopDown::of_world(&world, 0.6);
     whole.title(&format!(
         "{}: correct side {}/{}, collisions {}/{}",
         ce.controller.to_uppercase(),
@@ -460,16 +518,17 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
         ce.collisions,
         ce.angles
     ));
-    let start = encounter::tested_start();
     // the robot flees away from the obstacles, which come from ahead: the square reaches
     // two thirds of its side behind the start
+    let (cx, cy) = start.offset(-CLOSE_UP_MM / 6.0, 0.0);
     let mut close = TopDown::window(
-        start.x_mm - 2.0 / 3.0 * CLOSE_UP_MM,
-        start.y_mm - 0.5 * CLOSE_UP_MM,
+        cx - 0.5 * CLOSE_UP_MM,
+        cy - 0.5 * CLOSE_UP_MM,
         CLOSE_UP_MM,
         CLOSE_UP_MM,
         CLOSE_UP_PX_PER_MM,
     );
+    close.obstacles(&world.obstacles);
     close.title(&match ce.gamma_paths() {
         Some(g) => format!(
             "close-up, {CLOSE_UP_MM:.0} mm square: first reaction a short takeoff (gamma path) \
@@ -479,8 +538,8 @@ fn panel(ce: &ControllerEvasion) -> Canvas {
         None => format!("close-up, {CLOSE_UP_MM:.0} mm square"),
     });
     // the start pose under the paths, which begin inside it
-    whole.robot(&start, [255, 255, 255]);
-    close.robot(&start, [255, 255, 255]);
+    whole.robot(start, [255, 255, 255]);
+    close.robot(start, [255, 255, 255]);
     draw_trials(&mut whole, ce);
     draw_trials(&mut close, ce);
     let pic = Canvas::side_by_side(&[whole.into_canvas(), close.into_canvas()]);

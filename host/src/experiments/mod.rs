@@ -10,6 +10,13 @@
 //! | `arena`: robots wandering among each other and the walls, success rate and collisions | Figs. 5–6, Sec. III-C | [`arena`] |
 //! | `swarm`: six robots spinning on approach; spread of the group over time | Fig. 7, Sec. IV-D | [`swarm`] |
 //! | `robustness`: every controller in the validated world under a lab's and a robot's perturbations | issue 29 | [`robustness`] |
+//! | `tables`: the headline figures of experiments 1–5 in one world over seeds, as docs' markdown | issue 29 | [`tables`] |
+//!
+//! Every experiment runs in a built-in world (`--world`: the recorded arena's replica `fu2019`
+//! by default, or the `lab`; [`BuiltinWorld`]), its walls the world's own unless a background
+//! is given, which replaces them and keeps the rest of the world ([`world_with`]). The staged
+//! experiments (`stimuli`, `evasion`, `two-threats`) stand where their geometry fits
+//! ([`stage`]); the wandering ones start clear of the walls and obstacles.
 //!
 //! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
 //! runs independent trials on worker threads; [`sweep`] splits a run into shards (`--shard
@@ -20,16 +27,18 @@ use std::path::{Path, PathBuf};
 use alvs_tasks::Params;
 use anyhow::{bail, ensure, Context, Result};
 
-use crate::arena::{Kind, WallTexture};
+use crate::arena::{BuiltinWorld, Kind, WallTexture, World};
 
 pub mod arena;
 pub mod encounter;
 pub mod evasion;
 pub mod parallel;
 pub mod robustness;
+pub mod stage;
 pub mod stimuli;
 pub mod swarm;
 pub mod sweep;
+pub mod tables;
 pub mod two_threats;
 pub mod validate;
 
@@ -77,6 +86,14 @@ pub fn texture(spec: &str) -> Result<WallTexture> {
         );
     }
     WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
+}
+
+/// The world a one-background experiment runs in: `world` with its walls showing `background`
+/// (a `--background` specification), or its own walls without one
+/// ([`BuiltinWorld::default_background`]); and the specification used.
+pub fn world_with(world: BuiltinWorld, background: Option<&str>) -> Result<(String, World)> {
+    let spec = world.background(background);
+    Ok((spec.to_string(), world.with_walls(texture(spec)?)))
 }
 
 /// The JSON of an experiment: one key per controller (its serialised outcome), plus `config`.

@@ -6,8 +6,9 @@
 //!
 //! # Scenes
 //!
-//! The observer stands at [`OBSERVER`] facing +x; the obstacles (ideal motors) are placed by
-//! bearing and distance from the observer's centre:
+//! The observer stands at [`OBSERVER`] facing +x in the `lab` (as designed); in another world
+//! where the paths of every scene's obstacles fit with the most room ([`super::stage`]). The
+//! obstacles (ideal motors) are placed by bearing and distance from the observer's centre:
 //!
 //! | scene | obstacles |
 //! |---|---|
@@ -29,17 +30,20 @@ use alvs_tasks::{Frame, Params};
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
+use super::stage::{Placement, Shape, Stage, Staged};
 use super::sweep::{Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::controller::{Approach, Stationary};
 use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
 use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{GyroParams, Kind, MotorParams, Pose, SensorNoise, Sim, World};
+use crate::arena::{
+    BuiltinWorld, GyroParams, Kind, MotorParams, Pose, SensorNoise, Sim, World, FRAME_DT_S,
+};
 use crate::canvas::Plot;
 use crate::replay::{self, Pipeline};
 
-/// Observer's pose (x mm, y mm, heading °): in the left part of the default arena facing the
-/// right wall 900 mm away, so every obstacle is seen against the wall texture.
+/// Observer's pose as designed (x mm, y mm, heading °): in the left part of the `lab` arena
+/// facing the right wall 900 mm away, so every obstacle is seen against the wall texture.
 pub const OBSERVER: (f64, f64, f64) = (300.0, 450.0, 0.0);
 /// An attention field within an obstacle's silhouette widened by this many columns on each
 /// side localises it.
@@ -69,6 +73,46 @@ pub struct StimulusScene {
     movers: Vec<Mover>,
     /// Camera frames.
     pub frames: u32,
+}
+
+impl Mover {
+    /// Adds it to `sim` (ideal motors and gyro, blind) by the observer at `me`.
+    fn add_to(&self, sim: &mut Sim, me: &Pose) {
+        let b = self.bearing_deg.to_radians();
+        let (x, y) = me.offset(self.distance_mm * b.cos(), self.distance_mm * b.sin());
+        let towards = (me.y_mm - y).atan2(me.x_mm - x).to_degrees();
+        let mover = Approach {
+            speed_mm_s: self.speed_mm_s as f32,
+            frames_left: self.frames,
+        };
+        sim.add(
+            Pose::new(x, y, towards + self.heading_off_deg),
+            Box::new(mover),
+            MotorParams::ideal(),
+            GyroParams::ideal(),
+            SensorNoise::default(),
+        );
+    }
+
+    /// Its start and end in the observer's frame (forward, right), mm, and its heading there,
+    /// degrees (0 = the observer's heading).
+    fn start_in_frame(&self) -> ((f64, f64), f64) {
+        let b = self.bearing_deg.to_radians();
+        let (f, r) = (self.distance_mm * b.cos(), self.distance_mm * b.sin());
+        let towards = (-r).atan2(-f).to_degrees();
+        ((f, r), towards + self.heading_off_deg)
+    }
+
+    /// The path its body sweeps, in the observer's frame.
+    fn path(&self) -> Shape {
+        let ((f, r), heading) = self.start_in_frame();
+        let length = self.speed_mm_s * f64::from(self.frames) * FRAME_DT_S;
+        let h = heading.to_radians();
+        Shape::Path {
+            from: (f, r),
+            to: (f + length * h.cos(), r + length * h.sin()),
+        }
+    }
 }
 
 /// An obstacle approaching from `bearing_deg`, 500 mm away, to [`STOP_MM`].
@@ -144,8 +188,10 @@ pub struct StimuliConfig {
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
     pub fsm: alvs_tasks::model::fsm::FsmParams,
-    /// Wall texture specification.
-    pub background: String,
+    /// The world.
+    pub world: BuiltinWorld,
+    /// Wall texture specification; `None`: the world's own walls.
+    pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`crate::arena::SensorNoise::exposure`]).
@@ -158,17 +204,46 @@ impl Default for StimuliConfig {
             seed: 1,
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
-            background: "clutter:1".into(),
+            world: BuiltinWorld::Fu2019,
+            background: None,
             exposure: 0.0,
         }
     }
 }
 
 impl StimuliConfig {
-    /// Checks the configuration and reads the background (one error line).
-    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
+    /// The stage: the observer standing and every scene's obstacles' paths.
+    pub fn stage() -> Stage {
+        let mut shapes = vec![Shape::Path {
+            from: (0.0, 0.0),
+            to: (0.0, 0.0),
+        }];
+        shapes.extend(
+            scenes()
+                .iter()
+                .flat_map(|s| s.movers.iter().map(Mover::path)),
+        );
+        Stage { shapes }
+    }
+
+    /// Where the observer stands in the world (whether it fits is
+    /// [`StimuliConfig::validate`]'s).
+    pub fn placement(&self) -> Placement {
+        Self::stage().place(&self.world.world(), observer())
+    }
+
+    /// Checks the configuration, the background and that the stage fits (one error line);
+    /// gives the world with its walls and where the observer stands.
+    pub fn validate(&self) -> Result<Staged> {
         super::validate_setup(&[Kind::Alvs], &self.params)?;
-        super::texture(&self.background)
+        let what = "the stimuli's stage";
+        self.placement()
+            .staged(self.world, self.background.as_deref(), what)
+    }
+
+    /// The background the walls show.
+    pub fn background(&self) -> &str {
+        self.world.background(self.background.as_deref())
     }
 }
 
@@ -237,6 +312,8 @@ fn scene_name<'de, D: serde::Deserializer<'de>>(
 pub struct StimuliReport {
     /// What ran.
     pub config: StimuliConfig,
+    /// Where the observer stood.
+    pub placement: Placement,
     /// One per scene.
     pub scenes: Vec<SceneResult>,
     /// Wall-clock seconds.
@@ -264,10 +341,10 @@ impl Sweep for StimuliConfig {
         shard: Option<Shard>,
         _progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, SceneResult)>> {
-        let texture = self.validate()?;
+        let staged = self.validate()?;
         let all = scenes();
         parallel::slice(all.len(), jobs, shard, |i| {
-            run_scene(&all[i], self, &World::with_texture(texture.clone()))
+            run_scene(&all[i], self, &staged.world, staged.placement.pose)
         })?
         .into_iter()
         .map(|(i, r)| r.map(|r| (i, r)))
@@ -277,6 +354,7 @@ impl Sweep for StimuliConfig {
     fn report(&self, scenes: Vec<SceneResult>, wall_clock_s: f64, _jobs: usize) -> StimuliReport {
         StimuliReport {
             config: self.clone(),
+            placement: self.placement(),
             scenes,
             wall_clock_s,
         }
@@ -287,9 +365,13 @@ fn observer() -> Pose {
     Pose::new(OBSERVER.0, OBSERVER.1, OBSERVER.2)
 }
 
-fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Result<SceneResult> {
+fn run_scene(
+    scene: &StimulusScene,
+    config: &StimuliConfig,
+    world: &World,
+    me: Pose,
+) -> Result<SceneResult> {
     let mut sim = Sim::new(world, config.seed);
-    let me = observer();
     // The observer must see (a blind scripted robot's frame is not rendered); its own copy of
     // the model runs beside the one recorded here, and its wheels stay still.
     let stand = Stationary(Kind::Alvs.make(config.params, config.fsm, 0));
@@ -304,20 +386,7 @@ fn run_scene(scene: &StimulusScene, config: &StimuliConfig, world: &World) -> Re
         },
     );
     for m in &scene.movers {
-        let b = m.bearing_deg.to_radians();
-        let (x, y) = me.offset(m.distance_mm * b.cos(), m.distance_mm * b.sin());
-        let towards = (me.y_mm - y).atan2(me.x_mm - x).to_degrees();
-        let mover = Approach {
-            speed_mm_s: m.speed_mm_s as f32,
-            frames_left: m.frames,
-        };
-        sim.add(
-            Pose::new(x, y, towards + m.heading_off_deg),
-            Box::new(mover),
-            MotorParams::ideal(),
-            GyroParams::ideal(),
-            SensorNoise::default(),
-        );
+        m.add_to(&mut sim, &me);
     }
     let mut pipe = Pipeline::new(config.params, config.fsm, Behaviour::Escape)?;
     let mut observed: Vec<Frame> = Vec::with_capacity(scene.frames as usize);
@@ -411,7 +480,9 @@ impl Report for StimuliReport {
         serde_json::json!({
             "scenes": self.scenes,
             "seed": self.config.seed,
-            "background": self.config.background,
+            "world": self.config.world.label(),
+            "background": self.config.background(),
+            "observer": self.placement.json(),
         })
     }
 
@@ -421,9 +492,13 @@ impl Report for StimuliReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "stimuli: standing ALVS robot, obstacle robots moving in front of it (background {}, seed {}, {:.1} s)",
-            self.config.background, self.config.seed, self.wall_clock_s
+            "stimuli: standing ALVS robot, obstacle robots moving in front of it (world {}, background {}, seed {}, {:.1} s)",
+            self.config.world.label(),
+            self.config.background(),
+            self.config.seed,
+            self.wall_clock_s
         );
+        let _ = writeln!(out, "observer {}", self.placement.describe());
         let _ = writeln!(
             out,
             "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9}",
@@ -510,4 +585,41 @@ fn tracks_plot(s: &SceneResult) -> Plot {
         plot = plot.series(&format!("AF{}", t.id), &ys);
     }
     plot
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiments::stage::MIN_CLEARANCE_MM;
+
+    /// The stage holds every path the scenes' obstacles drive: simulated in the replica from
+    /// where its observer stands, each obstacle's centre stays on its stage path and clear of
+    /// every wall and cylinder by the stage's margin.
+    #[test]
+    fn every_obstacle_drives_its_stage_path_clear_of_the_replica() {
+        let config = StimuliConfig::default();
+        let (world, me) = (config.world.world(), config.placement().pose);
+        for scene in scenes() {
+            let mut sim = Sim::new(&world, 1);
+            for m in &scene.movers {
+                m.add_to(&mut sim, &me);
+            }
+            for _ in 0..scene.frames {
+                sim.step();
+                for (p, m) in sim.physics.poses().iter().zip(&scene.movers) {
+                    let Shape::Path { from, to } = m.path() else {
+                        unreachable!("a mover's path")
+                    };
+                    let (a, b) = (me.offset(from.0, from.1), me.offset(to.0, to.1));
+                    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                    let t = (((p.x_mm - a.0) * dx + (p.y_mm - a.1) * dy) / (dx * dx + dy * dy))
+                        .clamp(0.0, 1.0);
+                    let off = (a.0 + t * dx - p.x_mm).hypot(a.1 + t * dy - p.y_mm);
+                    assert!(off < 0.5, "{}: {off} mm off its path", scene.name);
+                    let gap = world.static_distance(p.x_mm, p.y_mm) - ROBOT_RADIUS_MM;
+                    assert!(gap >= MIN_CLEARANCE_MM - 1e-6, "{}: {gap} mm", scene.name);
+                }
+            }
+        }
+    }
 }

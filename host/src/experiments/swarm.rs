@@ -22,12 +22,13 @@ use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::arena::start_poses;
+use super::arena::start_poses_among;
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::controller::Scripted;
 use crate::arena::{
-    GyroParams, Kind, MotorParams, Pose, Rng, SensorNoise, Sim, TopDown, World, FRAME_DT_S,
+    BuiltinWorld, GyroParams, Kind, MotorParams, Obstacle, Pose, Rng, SensorNoise, Sim, TopDown,
+    FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Plot, BLACK};
 
@@ -55,8 +56,10 @@ pub struct SwarmConfig {
     pub params: Params,
     /// Motion parameters of the controllers (`--fsm NAME=VALUE`).
     pub fsm: alvs_tasks::model::fsm::FsmParams,
-    /// Wall texture specification.
-    pub background: String,
+    /// The world; the robots start clear of its walls and obstacles.
+    pub world: BuiltinWorld,
+    /// Wall texture specification; `None`: the world's own walls.
+    pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`crate::arena::SensorNoise::exposure`]).
@@ -74,7 +77,8 @@ impl Default for SwarmConfig {
             seed: 1,
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
-            background: "clutter:1".into(),
+            world: BuiltinWorld::Fu2019,
+            background: None,
             exposure: 0.0,
         }
     }
@@ -91,8 +95,13 @@ impl SwarmConfig {
         self.frames() * self.controllers.len() as u64
     }
 
+    /// The background the walls show.
+    pub fn background(&self) -> &str {
+        self.world.background(self.background.as_deref())
+    }
+
     /// Checks the configuration and reads the background (one error line).
-    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
+    pub fn validate(&self) -> Result<crate::arena::World> {
         ensure!(
             (2..=30).contains(&self.robots),
             "--robots must be 2..=30 for a swarm, got {}",
@@ -104,7 +113,7 @@ impl SwarmConfig {
             self.minutes
         );
         super::validate_setup(&self.controllers, &self.params)?;
-        super::texture(&self.background)
+        Ok(super::world_with(self.world, self.background.as_deref())?.1)
     }
 }
 
@@ -232,12 +241,12 @@ fn run_slice(
     shard: Option<Shard>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<(usize, SwarmTrial)>> {
-    let texture = config.validate()?;
-    let arena = World::default().arena;
+    let world = config.validate()?;
+    let (arena, obstacles) = (&world.arena, &world.obstacles);
     // the others start where they would without a leader; the leader finds room among them
-    let starts = start_poses(&arena, config.robots, config.seed)?;
+    let starts = start_poses_among(arena, obstacles, config.robots, config.seed)?;
     let leader_pose = if config.leader {
-        Some(leader_pose(&arena, &starts, config.seed)?)
+        Some(leader_pose(arena, obstacles, &starts, config.seed)?)
     } else {
         None
     };
@@ -246,7 +255,6 @@ fn run_slice(
     parallel::slice(config.controllers.len(), jobs, shard, |c| {
         let t = std::time::Instant::now();
         let kind = config.controllers[c];
-        let world = World::with_texture(texture.clone());
         let mut sim = Sim::new(&world, config.seed);
         let root = Rng::new(config.seed).fork(CONTROLLER_STREAM);
         for (i, p) in starts.iter().enumerate() {
@@ -362,10 +370,16 @@ fn leader_wheels_mm_s(fsm: &alvs_tasks::model::fsm::FsmParams) -> (f32, f32) {
 /// Random stream of the leader's start pose.
 const LEADER_STREAM: u64 = 0x1ead;
 
-/// A start pose for the leader as far from the walls and from the robots at `starts` as the
-/// arena's start poses are from each other ([`super::arena::START_SEPARATION_MM`],
-/// [`super::arena::START_WALL_CLEARANCE_MM`]); the first of 20,000 random tries that fits.
-pub fn leader_pose(arena: &crate::arena::Arena, starts: &[Pose], seed: u64) -> Result<Pose> {
+/// A start pose for the leader as far from the walls, the `obstacles` and the robots at
+/// `starts` as the arena's start poses are from each other
+/// ([`super::arena::START_SEPARATION_MM`], [`super::arena::START_WALL_CLEARANCE_MM`]); the
+/// first of 20,000 random tries that fits.
+pub fn leader_pose(
+    arena: &crate::arena::Arena,
+    obstacles: &[Obstacle],
+    starts: &[Pose],
+    seed: u64,
+) -> Result<Pose> {
     let (m, sep) = (
         super::arena::START_WALL_CLEARANCE_MM,
         super::arena::START_SEPARATION_MM,
@@ -378,13 +392,16 @@ pub fn leader_pose(arena: &crate::arena::Arena, starts: &[Pose], seed: u64) -> R
             m + h * rng.uniform(),
             rng.range(-180.0, 180.0),
         );
-        if w >= 0.0 && h >= 0.0 && starts.iter().all(|q| q.distance_to(&p) >= sep) {
+        let clear = obstacles
+            .iter()
+            .all(|o| o.surface_distance(p.x_mm, p.y_mm) >= m);
+        if w >= 0.0 && h >= 0.0 && clear && starts.iter().all(|q| q.distance_to(&p) >= sep) {
             return Ok(p);
         }
     }
     anyhow::bail!(
-        "no room for the leader among {} robots ({sep} mm apart, {m} mm from the walls); use \
-         fewer robots",
+        "no room for the leader among {} robots ({sep} mm apart, {m} mm from the walls and \
+         obstacles); use fewer robots",
         starts.len()
     )
 }
@@ -415,7 +432,7 @@ impl Report for SwarmReport {
         super::per_controller_json(
             self.trials.iter().map(|t| (t.controller.to_string(), t)),
             serde_json::json!({"robots": c.robots, "leader": c.leader, "minutes": c.minutes, "seed": c.seed,
-                               "background": c.background}),
+                               "world": c.world.label(), "background": c.background()}),
         )
     }
 
@@ -426,7 +443,7 @@ impl Report for SwarmReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "swarm: {} robots{}, {} min, background {}, seed {}, {:.1} s",
+            "swarm: {} robots{}, {} min, world {}, background {}, seed {}, {:.1} s",
             c.robots,
             if c.leader {
                 " and a spinning leader"
@@ -434,7 +451,8 @@ impl Report for SwarmReport {
                 ""
             },
             c.minutes,
-            c.background,
+            c.world.label(),
+            c.background(),
             c.seed,
             self.wall_clock_s
         );
@@ -508,9 +526,9 @@ impl Report for SwarmReport {
             .save_png(&path)
             .with_context(|| format!("cannot write {}", path.display()))?;
         paths.push(path);
+        let world = self.config.world.world();
         for t in &self.trials {
-            let arena = World::default().arena;
-            let mut td = TopDown::new(&arena, 0.5);
+            let mut td = TopDown::of_world(&world, 0.5);
             td.title(&format!(
                 "{}: {} robots{}, {:.1} min; spread {:.0} mm at the start, {:.0} mm over the last minute",
                 t.controller.to_uppercase(),
@@ -560,16 +578,21 @@ mod tests {
 
     #[test]
     fn the_leader_finds_room_among_the_robots_or_says_why_not() {
-        let arena = World::default().arena;
-        let starts = start_poses(&arena, 20, 2).unwrap();
-        let l = leader_pose(&arena, &starts, 2).unwrap();
+        let world = BuiltinWorld::Fu2019.world();
+        let (arena, obstacles) = (&world.arena, &world.obstacles[..]);
+        let starts = start_poses_among(arena, obstacles, 20, 2).unwrap();
+        let l = leader_pose(arena, obstacles, &starts, 2).unwrap();
         let sep = super::super::arena::START_SEPARATION_MM;
         assert!(starts.iter().all(|q| q.distance_to(&l) >= sep));
+        let m = super::super::arena::START_WALL_CLEARANCE_MM;
+        assert!(world.static_distance(l.x_mm, l.y_mm) >= m, "{l:?}");
         // a robot everywhere: no room
         let crowd: Vec<Pose> = (0..40)
             .flat_map(|i| (0..30).map(move |j| Pose::new(30.0 * i as f64, 30.0 * j as f64, 0.0)))
             .collect();
-        let e = leader_pose(&arena, &crowd, 2).unwrap_err().to_string();
+        let e = leader_pose(arena, obstacles, &crowd, 2)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no room for the leader"), "{e}");
     }
 }

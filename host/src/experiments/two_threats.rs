@@ -7,6 +7,10 @@
 //! view and on different sides) and start distance (uniform 450..550 mm). The faster obstacle
 //! drives at [`TwoThreatConfig::fast_mm_s`], the slower at [`TwoThreatConfig::slow_mm_s`].
 //!
+//! The tested robot stands at the same place in every run: as designed in the `lab`
+//! ([`encounter::TESTED_START`]), elsewhere where the stage (every path the draws allow, the
+//! tested robot and its escape room) fits with the most room ([`super::stage`]).
+//!
 //! A run **evades away from the faster** when the tested robot's escape turn goes to the side
 //! away from the faster obstacle ([`super::encounter`]: its heading change over its first
 //! takeoff, beyond 5°). The paper's robot
@@ -20,13 +24,18 @@ use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
 use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use super::stage::{Placement, Shape, Stage, Staged};
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::{Kind, Rng, TopDown, World};
+use crate::arena::{BuiltinWorld, Kind, Rng, TopDown};
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
 /// Random stream of the runs' geometry.
 const GEOMETRY_STREAM: u64 = 0x0002_7417;
+/// An obstacle's bearing is uniform over this on its side, degrees.
+pub const BEARINGS_DEG: (f64, f64) = (10.0, 35.0);
+/// An obstacle's start distance is uniform over this, mm.
+pub const DISTANCES_MM: (f64, f64) = (450.0, 550.0);
 
 /// What to run.
 #[derive(Debug, Clone)]
@@ -47,8 +56,10 @@ pub struct TwoThreatConfig {
     pub fsm: alvs_tasks::model::fsm::FsmParams,
     /// Keep every trial's frame-by-frame trace ([`encounter::TraceRow`]) for `--trace`.
     pub trace: bool,
-    /// Wall texture specification.
-    pub background: String,
+    /// The world.
+    pub world: BuiltinWorld,
+    /// Wall texture specification; `None`: the world's own walls.
+    pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`crate::arena::SensorNoise::exposure`]).
@@ -66,7 +77,8 @@ impl Default for TwoThreatConfig {
             params: Params::default(),
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             trace: false,
-            background: "clutter:1".into(),
+            world: BuiltinWorld::Fu2019,
+            background: None,
             exposure: 0.0,
         }
     }
@@ -103,8 +115,25 @@ impl From<ThreatJson> for Threat {
 }
 
 impl TwoThreatConfig {
-    /// Checks the configuration and reads the background (one error line).
-    pub fn validate(&self) -> Result<crate::arena::WallTexture> {
+    /// The stage: every path an obstacle may drive (the sectors of [`BEARINGS_DEG`] on both
+    /// sides out to the longest of [`DISTANCES_MM`]), the tested robot and its escape room.
+    pub fn stage() -> Stage {
+        let (b0, b1) = BEARINGS_DEG;
+        encounter::tested_stage([-1.0, 1.0].map(|side| Shape::Sector {
+            mid_deg: side * (b0 + b1) / 2.0,
+            half_deg: (b1 - b0) / 2.0,
+            radius_mm: DISTANCES_MM.1,
+        }))
+    }
+
+    /// Where the stage stands in the world (whether it fits is [`TwoThreatConfig::validate`]'s).
+    pub fn placement(&self) -> Placement {
+        Self::stage().place(&self.world.world(), encounter::tested_start())
+    }
+
+    /// Checks the configuration, the background and that the stage fits (one error line);
+    /// gives the world with its walls and where the stage stands.
+    pub fn validate(&self) -> Result<Staged> {
         ensure!(
             (1..=100_000).contains(&self.runs),
             "--runs must be 1..=100000, got {}",
@@ -123,7 +152,9 @@ impl TwoThreatConfig {
             self.slow_mm_s
         );
         super::validate_setup(&self.controllers, &self.params)?;
-        super::texture(&self.background)
+        let what = "the two threats' stage";
+        self.placement()
+            .staged(self.world, self.background.as_deref(), what)
     }
 
     /// The geometry of run `r`.
@@ -131,8 +162,8 @@ impl TwoThreatConfig {
         let mut rng = Rng::new(self.seed).fork(GEOMETRY_STREAM).fork(r as u64);
         let fast_side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
         let mut draw = |side: f64, speed: f64| {
-            let b = rng.range(10.0, 35.0);
-            let d = rng.range(450.0, 550.0);
+            let b = rng.range(BEARINGS_DEG.0, BEARINGS_DEG.1);
+            let d = rng.range(DISTANCES_MM.0, DISTANCES_MM.1);
             ThreatJson {
                 bearing_deg: (side * b * 100.0).round() / 100.0,
                 distance_mm: d.round(),
@@ -217,6 +248,8 @@ pub struct ControllerTwoThreats {
 pub struct TwoThreatReport {
     /// What ran.
     pub config: TwoThreatConfig,
+    /// Where it ran, the stage's placement included.
+    pub setting: encounter::Setting,
     /// One per controller.
     pub controllers: Vec<ControllerTwoThreats>,
     /// Wall-clock seconds.
@@ -250,7 +283,13 @@ impl Sweep for TwoThreatConfig {
         shard: Option<Shard>,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, Self::Trial)>> {
-        let texture = self.validate()?;
+        let base = Encounter::staged(
+            self.validate()?,
+            self.params,
+            self.fsm,
+            self.exposure,
+            self.trace,
+        );
         let n = self.runs;
         parallel::slice(self.trial_count(), jobs, shard, |i| {
             let (kind, r) = (self.controllers[i / n], i % n);
@@ -260,18 +299,10 @@ impl Sweep for TwoThreatConfig {
                 threats: vec![pair.fast.into(), pair.slow.into()],
                 // every controller meets the same noise in run r
                 seed: Rng::new(self.seed).fork(r as u64).next_u64(),
-                params: self.params,
-                fsm: self.fsm,
-                texture: texture.clone(),
-                noise: true,
-                exposure: self.exposure,
-                trace: self.trace,
+                ..base.clone()
             };
-            let res = encounter::run(&e, progress);
-            Traced {
-                outcome: RunOutcome::new(pair, &res),
-                trace: (format!("{},{r}", kind.name()), res.trace),
-            }
+            let lead = format!("{},{r}", kind.name());
+            encounter::run_traced(&e, lead, progress, |res| RunOutcome::new(pair, res))
         })
     }
 
@@ -305,6 +336,12 @@ impl Sweep for TwoThreatConfig {
             .collect();
         TwoThreatReport {
             config: self.clone(),
+            setting: encounter::Setting {
+                world: self.world,
+                background: self.background.clone(),
+                seed: self.seed,
+                placement: self.placement(),
+            },
             controllers,
             wall_clock_s,
             traces,
@@ -320,13 +357,11 @@ impl Report for TwoThreatReport {
             self.controllers
                 .iter()
                 .map(|c| (c.controller.to_string(), c)),
-            serde_json::json!({
+            self.setting.json(serde_json::json!({
                 "runs": cfg.runs,
                 "fast_mm_s": cfg.fast_mm_s,
                 "slow_mm_s": cfg.slow_mm_s,
-                "seed": cfg.seed,
-                "background": cfg.background,
-            }),
+            })),
         )
     }
 
@@ -335,10 +370,13 @@ impl Report for TwoThreatReport {
         use std::fmt::Write;
         let c = &self.config;
         let mut out = String::new();
-        let _ = writeln!(
+        let _ = write!(
             out,
-            "two-threats: {} runs, faster {} mm/s vs slower {} mm/s from opposite sides, background {}, seed {}, {:.1} s",
-            c.runs, c.fast_mm_s, c.slow_mm_s, c.background, c.seed, self.wall_clock_s
+            "two-threats: {} runs, faster {} mm/s vs slower {} mm/s from opposite sides, {}",
+            c.runs,
+            c.fast_mm_s,
+            c.slow_mm_s,
+            self.setting.title(self.wall_clock_s)
         );
         let _ = writeln!(
             out,
@@ -369,7 +407,11 @@ impl Report for TwoThreatReport {
     /// (up to 12), green when it turned away from the faster obstacle, red otherwise.
     fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let panels: Vec<Canvas> = self.controllers.iter().map(panel).collect();
+        let panels: Vec<Canvas> = self
+            .controllers
+            .iter()
+            .map(|ce| panel(ce, &self.setting))
+            .collect();
         let c = Canvas::side_by_side(&panels);
         let path = dir.join("two_threats.png");
         c.save_png(&path)
@@ -383,9 +425,9 @@ const BAD: Rgb = [210, 40, 40];
 const FAST: Rgb = [40, 90, 200];
 const SLOW: Rgb = [160, 160, 160];
 
-fn panel(ce: &ControllerTwoThreats) -> Canvas {
-    let arena = World::default().arena;
-    let mut td = TopDown::new(&arena, 0.6);
+fn panel(ce: &ControllerTwoThreats, setting: &encounter::Setting) -> Canvas {
+    let (world, start) = (setting.world.world(), &setting.placement.pose);
+    let mut td = TopDown::of_world(&world, 0.6);
     td.title(&format!(
         "{}: away from the faster in {}/{} runs ({:.0} %), {} with a collision",
         ce.controller.to_uppercase(),
@@ -394,10 +436,9 @@ fn panel(ce: &ControllerTwoThreats) -> Canvas {
         100.0 * ce.fraction,
         ce.collisions
     ));
-    let start = encounter::tested_start();
     for o in ce.per_run.iter().take(12) {
         for (t, colour) in [(o.threats.fast, FAST), (o.threats.slow, SLOW)] {
-            let p = Threat::from(t).start_pose(&start);
+            let p = Threat::from(t).start_pose(start);
             td.trail(&[(p.x_mm, p.y_mm), (start.x_mm, start.y_mm)], colour);
             td.mark(p.x_mm, p.y_mm, colour);
         }
@@ -406,7 +447,7 @@ fn panel(ce: &ControllerTwoThreats) -> Canvas {
         let pts: Vec<(f64, f64)> = o.trail.iter().map(|p| (p[0], p[1])).collect();
         td.trail(&pts, if o.away_from_faster { GOOD } else { BAD });
     }
-    td.robot(&start, colour_cycle(0));
+    td.robot(start, colour_cycle(0));
     let pic = td.into_canvas();
     let legend = "blue: faster obstacle's path, grey: slower; tested robot's path green when it \
                   turned away from the faster, red otherwise (first 12 runs)";

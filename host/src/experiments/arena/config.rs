@@ -9,8 +9,12 @@ pub struct ArenaConfig {
     pub robots: usize,
     /// Simulated minutes per trial.
     pub minutes: f64,
+    /// The world; its walls show each background in turn, and the robots start clear of its
+    /// walls and obstacles.
+    pub world: BuiltinWorld,
     /// Wall textures, as [`WallTexture::from_spec`] reads them; one trial per background and
-    /// controller.
+    /// controller. Empty: the world's own ([`BuiltinWorld::default_backgrounds`]: the replica's
+    /// ribbed walls in `fu2019`, [`DEFAULT_BACKGROUNDS`] in the `lab`).
     pub backgrounds: Vec<String>,
     /// Controllers to compare.
     pub controllers: Vec<Kind>,
@@ -32,12 +36,14 @@ pub struct ArenaConfig {
 }
 
 impl Default for ArenaConfig {
-    /// The paper's setting: 3 robots, 10 minutes, 3 backgrounds, ALVS and LGMD2, seed 1, noise.
+    /// The paper's setting: 3 robots, 10 minutes, ALVS and LGMD2, seed 1, noise, in the
+    /// recorded arena's replica with its own walls.
     fn default() -> Self {
         ArenaConfig {
             robots: 3,
             minutes: 10.0,
-            backgrounds: DEFAULT_BACKGROUNDS.iter().map(|s| s.to_string()).collect(),
+            world: BuiltinWorld::Fu2019,
+            backgrounds: Vec::new(),
             controllers: vec![Kind::Alvs, Kind::Lgmd2],
             seed: 1,
             params: Params::default(),
@@ -61,6 +67,23 @@ impl ArenaConfig {
         self.prepare().map(|_| ())
     }
 
+    /// The backgrounds of a run without repeats, in their order: the configuration's, or the
+    /// world's own.
+    pub fn background_specs(&self) -> Vec<String> {
+        let given: Vec<&str> = if self.backgrounds.is_empty() {
+            self.world.default_backgrounds().to_vec()
+        } else {
+            self.backgrounds.iter().map(String::as_str).collect()
+        };
+        let mut v: Vec<String> = Vec::new();
+        for b in given {
+            if !v.iter().any(|s| s == b) {
+                v.push(b.to_string());
+            }
+        }
+        v
+    }
+
     /// Checks the configuration and parses the backgrounds (one error line per problem).
     pub(super) fn prepare(&self) -> Result<Prepared> {
         ensure!(self.robots >= 1, "--robots must be at least 1");
@@ -79,14 +102,15 @@ impl ArenaConfig {
             "--exposure must be a fraction of the frame period in 0..=1, got {}",
             self.exposure
         );
-        ensure!(!self.backgrounds.is_empty(), "no background to run on");
         crate::experiments::validate_setup(&self.controllers, &self.params)?;
-        let mut backgrounds: Vec<(String, WallTexture)> = Vec::new();
-        for spec in &self.backgrounds {
-            if !backgrounds.iter().any(|(s, _)| s == spec) {
-                backgrounds.push((spec.clone(), crate::experiments::texture(spec)?));
-            }
-        }
+        let backgrounds = self
+            .background_specs()
+            .into_iter()
+            .map(|spec| {
+                let t = crate::experiments::texture(&spec)?;
+                Ok((spec, t))
+            })
+            .collect::<Result<Vec<(String, WallTexture)>>>()?;
         let mut controllers: Vec<Kind> = Vec::new();
         for &k in &self.controllers {
             if !controllers.contains(&k) {
@@ -106,8 +130,8 @@ impl ArenaConfig {
                 lines.saturating_mul(TRACE_LINE_BYTES) / 1_000_000
             );
         }
-        let arena = World::default().arena;
-        let starts = start_poses(&arena, self.robots, self.seed)?;
+        let world = self.world.world();
+        let starts = start_poses_among(&world.arena, &world.obstacles, self.robots, self.seed)?;
         let (motor, gyro, mut noise) = crate::arena::robot_noise(self.noise);
         noise.exposure = self.exposure;
         let controller_seeds = controller_seeds(self.seed, self.robots);

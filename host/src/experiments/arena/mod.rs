@@ -5,8 +5,10 @@
 //! # Trials
 //!
 //! One trial is one (controller, background) pair: [`ArenaConfig::robots`] robots, all running
-//! that controller, in the default arena ([`World::with_texture`]) whose walls show that
-//! background, for [`ArenaConfig::minutes`] of simulated time. Trials are independent and run in
+//! that controller, in the configuration's world ([`ArenaConfig::world`]: the recorded arena's
+//! replica by default, or the `lab`) whose walls show that background
+//! ([`BuiltinWorld::with_walls`]; by default the world's own), for [`ArenaConfig::minutes`] of
+//! simulated time. Trials are independent and run in
 //! parallel; each is a pure function of the configuration, so thread scheduling never changes a
 //! number (only `wall_clock_s`).
 //!
@@ -17,7 +19,7 @@
 //! controllers do.
 //!
 //! **Start poses** are uniform in the arena at least [`START_WALL_CLEARANCE_MM`] from the walls
-//! and [`START_SEPARATION_MM`] from each other (centre to centre), with uniform headings: no
+//! and obstacles ([`start_poses_among`]) and [`START_SEPARATION_MM`] from each other (centre to centre), with uniform headings: no
 //! robot starts inside an encounter (more than two diameters from every other body).
 //!
 //! # Counting
@@ -46,13 +48,11 @@ use crate::arena::contacts::{
 };
 use crate::arena::world::ROBOT_RADIUS_MM;
 use crate::arena::{
-    Arena, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other, Pose, Rng, SensorNoise, Sim,
-    SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
+    Arena, BuiltinWorld, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other, Pose, Rng,
+    SensorNoise, Sim, SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, RED, WHITE};
 
-/// The backgrounds of a default run: procedural clutter, vertical stripes and a checkerboard
-/// (built in, so a default run needs no file).
 mod config;
 mod pictures;
 mod report;
@@ -65,7 +65,9 @@ use report::*;
 pub use results::*;
 pub use run::*;
 
-pub const DEFAULT_BACKGROUNDS: [&str; 3] = ["clutter:1", "stripes:40", "checker:60"];
+/// The backgrounds of a default run in the `lab`: procedural clutter, vertical stripes and a
+/// checkerboard (built in, so a default run needs no file).
+pub const DEFAULT_BACKGROUNDS: [&str; 3] = crate::arena::worlds::LAB_BACKGROUNDS;
 
 /// The paper's success rates (Sec. III-C) for reference in reports.
 pub const PAPER_SUCCESS_RATE: [(&str, f64); 2] = [("alvs", 0.961), ("lgmd2", 0.937)];

@@ -317,11 +317,10 @@ pub(crate) fn draw_bars(c: &mut Canvas, (x, y, w, h): (i32, i32, i32, i32), bars
     }
 }
 
-/// The top-down picture of one trial: each robot's trail in its own colour from a small cross
+/// The top-down picture of one trial in `world` (its arena and obstacles): each robot's trail in its own colour from a small cross
 /// (start) to its body (end), robot–robot collisions as red x, robot–wall collisions as black x.
-pub fn trial_picture(t: &Trial) -> Canvas {
-    let arena = World::default().arena;
-    let mut td = TopDown::new(&arena, 0.5);
+pub fn trial_picture(t: &Trial, world: &World) -> Canvas {
+    let mut td = TopDown::of_world(world, 0.5);
     td.title(&format!(
         "{} on {} - success {} ({} encounters, {} with a collision)",
         t.controller.to_uppercase(),

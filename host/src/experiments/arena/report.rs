@@ -77,6 +77,7 @@ impl Report for ArenaReport {
         map.insert("model".into(), self.config.params.preset_name().into());
         // the motion (FSM) preset: "alvs", "paper" or "custom" (--fsm)
         map.insert("fsm".into(), self.config.fsm.preset_name().into());
+        map.insert("world".into(), self.config.world.label().into());
         serde_json::Value::Object(map)
     }
 
@@ -89,8 +90,9 @@ impl Report for ArenaReport {
         let frames = self.trials.first().map_or(0, |t| t.frames);
         let _ = writeln!(
             out,
-            "arena: {} robots, {} min per trial ({} camera frames per robot), seed {}, ALVS model {}, FSM {}, {} trials on {} threads, {:.1} s",
+            "arena: {} robots in {}, {} min per trial ({} camera frames per robot), seed {}, ALVS model {}, FSM {}, {} trials on {} threads, {:.1} s",
             c.robots,
+            c.world.label(),
             c.minutes,
             frames,
             c.seed,
@@ -255,9 +257,10 @@ impl Report for ArenaReport {
     fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         let mut paths = Vec::new();
+        let world = self.config.world.world();
         for t in &self.trials {
             let path = dir.join(format!("{}_{}.png", t.controller, slug(&t.background)));
-            trial_picture(t)
+            trial_picture(t, &world)
                 .save_png(&path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             paths.push(path);

@@ -25,9 +25,7 @@ pub(super) fn csv_field(s: &str) -> String {
 /// Total camera frames (per robot) a run of `config` simulates, for a progress bar; 0 if the
 /// configuration is invalid.
 pub fn total_frames(config: &ArenaConfig) -> u64 {
-    let mut bgs = config.backgrounds.clone();
-    bgs.sort();
-    bgs.dedup();
+    let bgs = config.background_specs();
     let mut ks: Vec<&str> = config.controllers.iter().map(|k| k.name()).collect();
     ks.sort();
     ks.dedup();
@@ -57,17 +55,6 @@ fn controllers(config: &ArenaConfig) -> Vec<Kind> {
     v
 }
 
-/// The backgrounds of `config` without repeats, in its order.
-fn backgrounds(config: &ArenaConfig) -> Vec<&str> {
-    let mut v: Vec<&str> = Vec::new();
-    for b in &config.backgrounds {
-        if !v.contains(&b.as_str()) {
-            v.push(b);
-        }
-    }
-    v
-}
-
 /// Trial `k` is (controller `k / backgrounds`, background `k mod backgrounds`).
 impl Sweep for ArenaConfig {
     const NAME: &'static str = "arena";
@@ -75,7 +62,7 @@ impl Sweep for ArenaConfig {
     type Report = ArenaReport;
 
     fn trial_count(&self) -> usize {
-        controllers(self).len() * backgrounds(self).len()
+        controllers(self).len() * self.background_specs().len()
     }
 
     fn run_slice(
@@ -124,7 +111,7 @@ pub(super) fn run_trial(
     let (spec, texture) = &prep.backgrounds[background];
     run_world_trial(
         &TrialSetup {
-            world: &World::with_texture(texture.clone()),
+            world: &config.world.with_walls(texture.clone()),
             background: spec,
             kind,
             params: config.params,
