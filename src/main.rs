@@ -36,6 +36,11 @@ static RTT_DROPPED: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU3
 /// Depth of the queue from motor control to the telemetry task.
 const TELEMETRY_QUEUE: usize = 4;
 
+/// The motor-control task's behaviour at boot: the escape FSM. `s` typed on RTT down channel 0
+/// switches to the swarm's spin on an approaching robot (paper Sec. IV-D), `e` back, without
+/// reflashing.
+const BOOT_BEHAVIOUR: alvs_tasks::model::fsm::Behaviour = alvs_tasks::model::fsm::Behaviour::Escape;
+
 // Dispatchers for the software tasks (priorities 1, 2, 3): the interrupts of SPI4, SPI5 and
 // SPI6, peripherals this firmware does not use and docs/hardware.md assigns nothing to.
 // RTIC's generated `spawn` returns its message in `Err`: a `Perception` (≈ 240 B) for motor
@@ -45,12 +50,13 @@ const TELEMETRY_QUEUE: usize = 4;
 mod app {
     use crate::capture::FrameIn;
     use crate::motor_link::MotorLink;
-    use crate::{bench, camera, setup, RTT_DROPPED, TELEMETRY_QUEUE};
+    use crate::{bench, camera, setup, BOOT_BEHAVIOUR, RTT_DROPPED, TELEMETRY_QUEUE};
     use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+    use alvs_tasks::model::movers::Movers;
     use alvs_tasks::robot::camera::{Counters, FrameEnd};
     use alvs_tasks::robot::control::Control;
     use alvs_tasks::robot::health::{
-        hold_command, Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS,
+        console_command, ConsoleCommand, Fault, Safety, SummaryWindow, WATCHDOG_TIMEOUT_MS,
     };
     use alvs_tasks::robot::telemetry::Record;
     use alvs_tasks::{Network, Perception};
@@ -156,7 +162,7 @@ mod app {
         let (camera, dcmi, camera_ok, motor_tx) = setup::camera(ports, &mut rcc, dp.DCMI, dp.DMA2);
         // Motors disabled at boot: the stop frames go out first.
         let mut link = setup::motor_link(dp.UART4, motor_tx, &mut rcc);
-        let mut control = Control::new(FsmParams::default(), Behaviour::Escape);
+        let mut control = Control::new(FsmParams::default(), BOOT_BEHAVIOUR);
         link.send(&control.stop());
 
         let (records_tx, records_rx) = make_channel!(Record, TELEMETRY_QUEUE);
@@ -171,7 +177,7 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre and its foot at or below row {} while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go",
+            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre and its foot at or below row {} while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
@@ -190,7 +196,11 @@ mod app {
             alvs_tasks::Params::ALVS.short_cols,
             alvs_tasks::Params::ALVS.short_row,
             core::mem::size_of::<Network>(),
-            alvs_tasks::robot::health::PRIME_FRAMES
+            alvs_tasks::robot::health::PRIME_FRAMES,
+            match BOOT_BEHAVIOUR {
+                Behaviour::Escape => "escape",
+                Behaviour::Swarm => "swarm",
+            }
         );
         supervisor::spawn().ok();
         summary::spawn().ok();
@@ -312,7 +322,7 @@ mod app {
     /// `Network::turned`, `Network::driving`),
     /// which is then parked for the camera; the frame's telemetry record to the telemetry task.
     /// Rows arriving meanwhile wait in the camera side's backlog.
-    #[task(priority = 3, shared = [safety, control, link, parked], local = [records_tx])]
+    #[task(priority = 3, shared = [safety, control, link, parked], local = [records_tx, movers: Movers = Movers::new()])]
     async fn motor_control(
         mut cx: motor_control::Context,
         network: &'static mut Network,
@@ -320,8 +330,10 @@ mod app {
         cycles: u32,
     ) {
         let enable = cx.shared.safety.lock(|s| s.motors_allowed());
+        let movers = cx.local.movers;
         let (command, frames, turn, forward) = cx.shared.control.lock(|c| {
-            let (command, frames) = c.step(&p.vm, enable);
+            let look = (&mut *movers, network.frame(), network.params().look_change);
+            let (command, frames) = c.step_seeing(&p.vm, look, enable);
             (command, frames, c.last_turn_deg(), c.last_forward_mm_s())
         });
         cx.shared.link.lock(|l| l.send(&frames));
@@ -340,17 +352,25 @@ mod app {
     #[task(priority = 3, shared = [safety, control, link, reset_requested], local = [watchdog, last_fault, console])]
     async fn supervisor(mut cx: supervisor::Context) {
         loop {
-            if let Some(on) = typed_hold(cx.local.console) {
-                if cx.shared.safety.lock(|s| s.hold(on)) {
-                    rprintln!(
-                        "{}",
-                        if on {
-                            "held: motors off ('g' lets go)"
-                        } else {
-                            "let go"
-                        }
-                    );
+            match typed_command(cx.local.console) {
+                Some(ConsoleCommand::Mode(b)) => {
+                    cx.shared.control.lock(|c| c.set_behaviour(b));
+                    rprintln!("{}", behaviour_line(b));
                 }
+                Some(hold) => {
+                    let on = hold == ConsoleCommand::Hold;
+                    if cx.shared.safety.lock(|s| s.hold(on)) {
+                        rprintln!(
+                            "{}",
+                            if on {
+                                "held: motors off ('g' lets go)"
+                            } else {
+                                "let go"
+                            }
+                        );
+                    }
+                }
+                None => {}
             }
             let now = now_ms();
             let d = cx.shared.safety.lock(|s| s.tick(now));
@@ -380,12 +400,20 @@ mod app {
         }
     }
 
-    /// The hold typed on the RTT control channel since the last look, if any (a function, so
-    /// that its buffer is not kept across the supervisor's await).
-    fn typed_hold(console: &mut DownChannel) -> Option<bool> {
+    /// The command typed on the RTT control channel since the last look, if any (a function,
+    /// so that its buffer is not kept across the supervisor's await).
+    fn typed_command(console: &mut DownChannel) -> Option<ConsoleCommand> {
         let mut typed = [0u8; 4];
         let n = console.read(&mut typed);
-        hold_command(typed.get(..n).unwrap_or(&[]))
+        console_command(typed.get(..n).unwrap_or(&[]))
+    }
+
+    /// The log line that names a behaviour and how to switch.
+    fn behaviour_line(b: Behaviour) -> &'static str {
+        match b {
+            Behaviour::Escape => "behaviour: escape (s for the swarm's spin)",
+            Behaviour::Swarm => "behaviour: swarm, spin on an approaching robot (e to escape)",
+        }
     }
 
     /// UART4 TXE: the next queued byte to the bottom board.

@@ -484,3 +484,41 @@ fn the_bring_up_guide_shows_what_a_healthy_boot_prints() {
         "docs/bringup.md's boot differs from `cargo alvs virtual --seconds 1.3 --telemetry 3`:\n{stdout}"
     );
 }
+
+/// Swarm mode without reflashing (issue 31): `s` typed on RTT down channel 0 switches motor
+/// control to the swarm's behaviour, which spins on the looming clip where the boot's escape
+/// takes off; `e` switches back.
+#[test]
+fn swarm_mode_typed_on_rtt_spins_on_a_looming_clip_instead_of_escaping() {
+    let Some(elf) = firmware() else { return };
+    let states = |typed: &[u8]| {
+        let mut b = board(&elf, clip("test_black_approach.y8"), Config::default());
+        b.run_for(100 * MS).expect("boots");
+        b.rtt_type(typed);
+        b.run_for(4_000 * MS).expect("runs");
+        let log = b.rtt(0).to_owned();
+        let states: std::collections::BTreeSet<String> = b
+            .rtt(1)
+            .lines()
+            .filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix("st=")))
+            .map(str::to_owned)
+            .collect();
+        (log, states)
+    };
+    let (log, escape) = states(b"");
+    assert!(log.contains("behaviour escape (type s"), "{log}");
+    assert!(
+        escape.contains("long_takeoff") || escape.contains("short_takeoff"),
+        "{escape:?}"
+    );
+    assert!(!escape.contains("spin"), "{escape:?}");
+    let (log, swarm) = states(b"s\n");
+    assert!(log.contains("behaviour: swarm"), "{log}");
+    assert!(swarm.contains("spin"), "{swarm:?}");
+    for s in ["long_takeoff", "short_takeoff", "escape"] {
+        assert!(!swarm.contains(s), "{s} in swarm mode: {swarm:?}");
+    }
+    let (log, back) = states(b"e\n");
+    assert!(log.contains("behaviour: escape (s for"), "{log}");
+    assert!(!back.contains("spin"), "{back:?}");
+}

@@ -26,6 +26,9 @@ pub enum Event {
     Hold,
     /// `recovered: …`: frames flow again after a fault.
     Recovered,
+    /// `behaviour: …`: motor control's behaviour (escape or the swarm's spin), at boot and when
+    /// `s` or `e` is typed.
+    Behaviour,
 }
 
 /// One logical line.
@@ -69,7 +72,7 @@ impl Entry {
         if BOOT.iter().any(|p| text.starts_with(p)) {
             return Entry::Boot;
         }
-        const EVENTS: [(&str, Event); 7] = [
+        const EVENTS: [(&str, Event); 8] = [
             ("ERROR ", Event::Error),
             ("FAULT: ", Event::Fault),
             ("WARNING: ", Event::Warning),
@@ -77,6 +80,7 @@ impl Entry {
             ("held: ", Event::Hold),
             ("let go", Event::Hold),
             ("recovered: ", Event::Recovered),
+            ("behaviour: ", Event::Behaviour),
         ];
         match EVENTS.iter().find(|(p, _)| text.starts_with(p)) {
             Some(&(_, e)) => Entry::Event(e),
@@ -115,6 +119,10 @@ mod tests {
             Entry::Event(Event::Error)
         );
         assert_eq!(Entry::of("let go"), Entry::Event(Event::Hold));
+        assert_eq!(
+            Entry::of("behaviour: swarm, spin on an approaching robot (type e to escape)"),
+            Entry::Event(Event::Behaviour)
+        );
         assert_eq!(
             Entry::of("F 3 st=wander S=0.500"),
             Entry::Bad(Some("telemetry record"), "missing field `X`".into())

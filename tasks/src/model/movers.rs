@@ -65,7 +65,7 @@ impl Sighting {
 }
 
 /// The reference band, how long the robot has stood, and the change seen so far.
-#[derive(Clone)]
+#[derive(Debug, Clone)]
 pub struct Movers {
     reference: [u8; BAND],
     standing: u8,

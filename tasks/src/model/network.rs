@@ -186,6 +186,13 @@ impl Network {
         self.retina.maps()
     }
 
+    /// The last whole frame, exactly as it came in, until the efference copy of a turn
+    /// ([`Network::turned`]) re-registers it for the next one: what the swarm's look reads
+    /// after a step (the firmware keeps no other copy of a frame).
+    pub fn frame(&self) -> &Frame {
+        self.retina.prev()
+    }
+
     /// Fixed-point weights of the ON/OFF maps (for pictures of `L̂_ON`, `L̂_OFF`, `L̂_t`).
     pub fn weights(&self) -> &Weights {
         &self.weights

@@ -6,7 +6,9 @@
 //! arena. It advances with what the wheels were *allowed* to do: nothing while the safety
 //! policy holds the motors.
 
+use crate::frame::Frame;
 use crate::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
+use crate::model::movers::Movers;
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
 use crate::robot::motor::{MotorFrames, MotorOutput};
 
@@ -25,6 +27,8 @@ pub struct Control<H = Odometry> {
     /// The forward speed the wheels were given in the last step, mm/s: the efference copy of
     /// forward motion (`Network::driving`).
     forward_mm_s: f32,
+    /// The FSM commanded standing still for this frame (the swarm's look's input).
+    standing: bool,
 }
 
 impl Control<Odometry> {
@@ -44,7 +48,36 @@ impl<H: HeadingEstimator> Control<H> {
             motors: MotorOutput::new(),
             turn_deg: 0.0,
             forward_mm_s: 0.0,
+            standing: false,
         }
+    }
+
+    /// Switches the behaviour (escape or the swarm's spin): a fresh FSM with the same
+    /// parameters, in Wander; the heading estimate and the motors' state carry on. (The
+    /// swarm's look starts over by itself: it restarts whenever the robot was not standing.)
+    pub fn set_behaviour(&mut self, behaviour: Behaviour) {
+        self.fsm = Fsm::new(*self.fsm.params(), behaviour);
+        self.standing = false;
+    }
+
+    /// [`Control::step`] with the frame perception just processed (`Network::frame`): in
+    /// [`Behaviour::Swarm`] the look at other robots (`movers`, kept by the caller: 2.6 KB
+    /// that escape never needs) runs on it first, with `look_change` (`Params::look_change`),
+    /// as the simulator's swarm robot does; in escape neither is touched.
+    pub fn step_seeing(
+        &mut self,
+        vm: &Visuomotor,
+        look: (&mut Movers, &Frame, u8),
+        enable: bool,
+    ) -> (MotorCommand, MotorFrames) {
+        let mut vm = *vm;
+        if self.fsm.behaviour() == Behaviour::Swarm {
+            let (movers, frame, look_change) = look;
+            vm.sighting = movers.step(frame, self.standing, look_change);
+        }
+        let (c, frames) = self.step(&vm, enable);
+        self.standing = c.stands();
+        (c, frames)
     }
 
     /// One frame: the FSM's transition on `vm` and its wheel speeds, and the frames to send.
@@ -130,6 +163,26 @@ mod tests {
         assert_eq!(c.heading().heading_deg(), 0.0, "straight ahead");
         board.apply_all(&c.stop()).unwrap();
         assert!(!board.enabled() && !c.motors_enabled());
+    }
+
+    #[test]
+    fn a_switch_of_behaviour_starts_a_fresh_fsm_and_keeps_the_heading() {
+        let mut c = Control::new(FsmParams::default(), Behaviour::Escape);
+        let alert = Visuomotor::from_fields([(10u8, 90_000u32)].into_iter(), &crate::Params::PAPER);
+        let frame = [0u8; crate::PIXELS];
+        let mut movers = Movers::new();
+        for _ in 0..10 {
+            c.step_seeing(&alert, (&mut movers, &frame, 25), true);
+        }
+        assert_ne!(c.fsm().state(), State::Wander, "escaping");
+        let heading = c.heading().heading_deg();
+        assert_ne!(heading, 0.0, "it turned");
+        c.set_behaviour(Behaviour::Swarm);
+        assert_eq!(c.fsm().behaviour(), Behaviour::Swarm);
+        assert_eq!(c.fsm().state(), State::Wander);
+        assert_eq!(c.heading().heading_deg(), heading);
+        let (cmd, _) = c.step_seeing(&alert, (&mut movers, &frame, 25), true);
+        assert_eq!(cmd.state, State::Spin, "the swarm spins on the same alert");
     }
 
     #[test]

@@ -28,12 +28,13 @@
 //!   stopped, until a whole window passes without overrun.
 //! - The panic flag → [`Fault::Panic`], motors stopped and the watchdog starved, for good.
 //! - A hold ([`Safety::hold`]: `h`, or anything but `g`, typed on RTT down channel 0,
-//!   "control"; `g` alone releases it, [`hold_command`]) stops the motors without a fault:
+//!   "control"; `g` alone releases it, [`console_command`]) stops the motors without a fault:
 //!   perception and the FSM run on, and the FSM is told its commands are not carried out. The
 //!   evasion protocol's "stand until the first alert", and a stop switch for whoever holds the
 //!   robot while a probe is attached. A reset (watchdog, panic) forgets it: the robot drives
 //!   again once primed.
 
+use crate::model::fsm::Behaviour;
 use crate::robot::camera::Counters;
 use crate::robot::line::{self, LineError};
 use core::fmt::{self, Write};
@@ -373,16 +374,30 @@ pub struct Safety {
     held: bool,
 }
 
-/// The hold the bytes typed on the RTT control channel ask for, failing safe: `g` alone
-/// (either case, around whitespace) lets go; anything else typed holds, so a mistyped or
-/// longer word ("stop", "going") stops the motors rather than starting them; nothing typed
-/// (or only whitespace) changes nothing.
-pub fn hold_command(bytes: &[u8]) -> Option<bool> {
-    let typed = bytes.trim_ascii();
-    match typed {
+/// What a line typed on the RTT control channel asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConsoleCommand {
+    /// Stop the motors ([`Safety::hold`]).
+    Hold,
+    /// Let them go again.
+    Go,
+    /// Switch the motor-control task's behaviour (escape or the swarm's spin), keeping the
+    /// hold as it is.
+    Mode(Behaviour),
+}
+
+/// The command the bytes typed on the RTT control channel ask for, failing safe: `g` alone
+/// (either case, around whitespace) lets go, `s` alone switches to the swarm's behaviour, `e`
+/// alone back to escape; anything else typed holds, so a mistyped or longer word ("stop",
+/// "going") stops the motors rather than starting them; nothing typed (or only whitespace)
+/// changes nothing.
+pub fn console_command(bytes: &[u8]) -> Option<ConsoleCommand> {
+    match bytes.trim_ascii() {
         [] => None,
-        [b'g' | b'G'] => Some(false),
-        _ => Some(true),
+        [b'g' | b'G'] => Some(ConsoleCommand::Go),
+        [b's' | b'S'] => Some(ConsoleCommand::Mode(Behaviour::Swarm)),
+        [b'e' | b'E'] => Some(ConsoleCommand::Mode(Behaviour::Escape)),
+        _ => Some(ConsoleCommand::Hold),
     }
 }
 
@@ -853,16 +868,27 @@ mod tests {
     }
 
     #[test]
-    fn the_control_channel_lets_go_only_on_g_alone() {
-        assert_eq!(hold_command(b"h"), Some(true));
-        assert_eq!(hold_command(b"H\r\n"), Some(true));
-        assert_eq!(hold_command(b"G\n"), Some(false));
-        assert_eq!(hold_command(b" g "), Some(false));
+    fn the_control_channel_lets_go_only_on_g_alone_and_switches_mode_on_s_or_e() {
+        use ConsoleCommand::{Go, Hold, Mode};
+        assert_eq!(console_command(b"h"), Some(Hold));
+        assert_eq!(console_command(b"H\r\n"), Some(Hold));
+        assert_eq!(console_command(b"G\n"), Some(Go));
+        assert_eq!(console_command(b" g "), Some(Go));
+        assert_eq!(console_command(b"s\n"), Some(Mode(Behaviour::Swarm)));
+        assert_eq!(console_command(b"E"), Some(Mode(Behaviour::Escape)));
         // anything else holds: fail safe
-        for typed in [&b"stop\n"[..], b"go", b"gg", b"hxg", b"\x00"] {
-            assert_eq!(hold_command(typed), Some(true), "{typed:?}");
+        for typed in [
+            &b"stop\n"[..],
+            b"go",
+            b"gg",
+            b"hxg",
+            b"\x00",
+            b"swarm",
+            b"se",
+        ] {
+            assert_eq!(console_command(typed), Some(Hold), "{typed:?}");
         }
-        assert_eq!(hold_command(b""), None);
-        assert_eq!(hold_command(b" \r\n"), None);
+        assert_eq!(console_command(b""), None);
+        assert_eq!(console_command(b" \r\n"), None);
     }
 }
