@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::movers::Movers;
 use alvs_tasks::robot::bench::{Report, STAMPS};
 use alvs_tasks::robot::control::Control;
 use alvs_tasks::robot::self_test::{self, BenchLine};
@@ -140,6 +141,10 @@ pub struct Bench {
     step: u32,
     network: u32,
     control: u32,
+    /// The swarm's look (`alvs_bench_init` writes it in swarm mode).
+    movers: u32,
+    /// The swarm's behaviour (else escape).
+    swarm: bool,
     frame: u32,
     report: u32,
 }
@@ -159,7 +164,7 @@ impl Bench {
             .symbol_raw("ALVS_BENCH_SIZES")
             .ok_or_else(|| missing("ALVS_BENCH_SIZES"))?;
         let size = |i: u32| m.read_u32(sizes + 4 * i);
-        let (n, c, r, f) = (size(0)?, size(1)?, size(2)?, size(3)?);
+        let (n, c, r, f, mv) = (size(0)?, size(1)?, size(2)?, size(3)?, size(4)?);
         if r as usize != Report::WORDS * 4 || f as usize != PIXELS {
             return Err(Error::Elf(format!(
                 "the ELF's Report ({r} B) or frame ({f} B) differs from this build's: rebuild"
@@ -172,7 +177,8 @@ impl Bench {
         let align = |a: u32| (a + 7) & !7;
         let network = align(top);
         let control = align(network + n);
-        let frame = align(control + c);
+        let movers = align(control + c);
+        let frame = align(movers + mv);
         let report = align(frame + f);
         let mut b = Bench {
             m,
@@ -180,6 +186,8 @@ impl Bench {
             step,
             network,
             control,
+            movers,
+            swarm: false,
             frame,
             report,
         };
@@ -187,10 +195,26 @@ impl Bench {
         Ok(b)
     }
 
-    /// A fresh network and controller (`alvs_bench_init`).
+    /// A fresh network and controller (`alvs_bench_init`) of the current behaviour.
     pub fn reset(&mut self) -> Result<(), Error> {
-        self.m.call(self.init, &[self.network, self.control])?;
+        self.m
+            .call(self.init, &[self.network, self.control, self.look()])?;
         Ok(())
+    }
+
+    /// Switches to `behaviour` and resets.
+    pub fn set_behaviour(&mut self, behaviour: Behaviour) -> Result<(), Error> {
+        self.swarm = behaviour == Behaviour::Swarm;
+        self.reset()
+    }
+
+    /// The look's address, 0 (null) in escape.
+    fn look(&self) -> u32 {
+        if self.swarm {
+            self.movers
+        } else {
+            0
+        }
     }
 
     /// The machine (for its RAM report).
@@ -213,9 +237,10 @@ impl Bench {
     /// flash): the report and the cycles.
     pub fn step_at(&mut self, frame: u32) -> Result<(Report, FrameCycles), Error> {
         self.m.paint_stack(PAINT)?;
-        let run = self
-            .m
-            .call(self.step, &[self.network, self.control, frame, self.report])?;
+        let run = self.m.call(
+            self.step,
+            &[self.network, self.control, self.look(), frame, self.report],
+        )?;
         let stack = self.m.stack_high_water(PAINT)?;
         let words = self.m.read(self.report, Report::WORDS * 4)?;
         let w: [u32; Report::WORDS] = std::array::from_fn(|i| {
@@ -293,6 +318,8 @@ pub fn self_test(elf: &[u8]) -> Result<Vec<SelfTestFrame>, Error> {
 pub struct HostTwin {
     network: Box<Network>,
     control: Control,
+    /// The swarm's look (swarm mode only).
+    movers: Option<Box<Movers>>,
 }
 
 impl Default for HostTwin {
@@ -304,15 +331,27 @@ impl Default for HostTwin {
 impl HostTwin {
     /// A fresh default network and escape controller, as `alvs_bench_init`.
     pub fn new() -> Self {
+        HostTwin::with_behaviour(Behaviour::Escape)
+    }
+
+    /// A fresh default network and a controller of `behaviour`, as `alvs_bench_init`.
+    pub fn with_behaviour(behaviour: Behaviour) -> Self {
         HostTwin {
             network: Box::new(Network::alvs()),
-            control: Control::new(FsmParams::default(), Behaviour::Escape),
+            control: Control::new(FsmParams::default(), behaviour),
+            movers: (behaviour == Behaviour::Swarm).then(|| Box::new(Movers::new())),
         }
     }
 
     /// One frame; the stamps are 0 (no clock on the host).
     pub fn step(&mut self, frame: &Frame) -> Report {
-        alvs_tasks::robot::bench::step(&mut self.network, &mut self.control, frame, &mut || 0)
+        alvs_tasks::robot::bench::step(
+            &mut self.network,
+            &mut self.control,
+            self.movers.as_deref_mut(),
+            frame,
+            &mut || 0,
+        )
     }
 }
 
@@ -327,6 +366,8 @@ pub struct Scene {
     pub name: String,
     /// The frames, in order (the first primes the network).
     pub frames: Vec<Frame>,
+    /// Motor control's behaviour (the firmware's `s` / `e`).
+    pub behaviour: Behaviour,
 }
 
 /// xorshift32, for reproducible noise.
@@ -360,7 +401,7 @@ pub fn worst_cases() -> Vec<Scene> {
             })
         })
         .collect();
-    let looms = (0..N)
+    let looms: Vec<Frame> = (0..N)
         .map(|t| {
             let mut f = [220u8; PIXELS];
             // corners far enough apart (> R_AF = 36 in x or y, and no centroid window reaching
@@ -396,18 +437,28 @@ pub fn worst_cases() -> Vec<Scene> {
         Scene {
             name: "noise".into(),
             frames: noise,
+            behaviour: Behaviour::Escape,
         },
         Scene {
             name: "four-looms".into(),
-            frames: looms,
+            frames: looms.clone(),
+            behaviour: Behaviour::Escape,
         },
         Scene {
             name: "moving-grating".into(),
             frames: grating,
+            behaviour: Behaviour::Escape,
         },
         Scene {
             name: "checker-flicker".into(),
             frames: checker,
+            behaviour: Behaviour::Escape,
+        },
+        // swarm mode (`s` on the firmware's control channel): the spin, then standing looks
+        Scene {
+            name: "swarm four-looms".into(),
+            frames: looms,
+            behaviour: Behaviour::Swarm,
         },
     ]
 }
@@ -446,9 +497,9 @@ pub struct Profile {
 /// Runs `scene` as [`run_scene`] does (outputs checked against the host build) with the
 /// per-instruction profile on, and keeps the profile of its worst frame.
 pub fn profile_scene(bench: &mut Bench, scene: &Scene) -> Result<Profile, BudgetError> {
-    bench.reset()?;
+    bench.set_behaviour(scene.behaviour)?;
     bench.machine_mut().set_profiling(true);
-    let mut host = HostTwin::new();
+    let mut host = HostTwin::with_behaviour(scene.behaviour);
     let mut worst = Profile {
         name: scene.name.clone(),
         frame: 0,
@@ -527,8 +578,8 @@ impl From<Error> for BudgetError {
 
 /// Runs a scene from a fresh network on both builds; fails on the first output that differs.
 pub fn run_scene(bench: &mut Bench, scene: &Scene) -> Result<SceneResult, BudgetError> {
-    bench.reset()?;
-    let mut host = HostTwin::new();
+    bench.set_behaviour(scene.behaviour)?;
+    let mut host = HostTwin::with_behaviour(scene.behaviour);
     let mut worst = (FrameCycles::default(), 0usize);
     let (mut sum, mut max_afs, mut stack) = (0u64, 0u32, 0u32);
     for (i, frame) in scene.frames.iter().enumerate() {
@@ -598,6 +649,7 @@ pub fn clips(dir: &Path, only: Option<&[&str]>) -> Result<Vec<Scene>, String> {
                     .unwrap_or("?")
                     .to_owned(),
                 frames: read_clip(&p)?,
+                behaviour: Behaviour::Escape,
             })
         })
         .collect()
@@ -657,6 +709,17 @@ mod tests {
             s.frames.iter().map(|f| h.step(f).afs).max().unwrap()
         };
         assert_eq!(afs("four-looms"), 4, "one field per loom");
+        let swarm = scenes
+            .iter()
+            .find(|s| s.behaviour == Behaviour::Swarm)
+            .unwrap();
+        let mut h = HostTwin::with_behaviour(Behaviour::Swarm);
+        let states: Vec<u32> = swarm.frames.iter().map(|f| h.step(f).state).collect();
+        let spin = alvs_tasks::model::fsm::State::Spin as u32;
+        assert!(
+            states.contains(&spin),
+            "the swarm spins on the looms: {states:?}"
+        );
         let noise = &scenes[0].frames;
         let changed = noise[0]
             .iter()

@@ -6,6 +6,7 @@
 //! The frame enters row by row, as the camera delivers it on the robot.
 
 use crate::frame::Frame;
+use crate::model::movers::Movers;
 use crate::model::network::{Network, Stage};
 use crate::robot::control::Control;
 
@@ -82,11 +83,12 @@ const _: () = assert!(core::mem::size_of::<Report>() == 4 * Report::WORDS);
 
 /// One frame: the turn of the last control step reported to the network (its efference copy,
 /// timed with the retina), the network's step fed row by row, then the motor-control step with
-/// the motors enabled. `clock` is read before and after each stage (the DWT cycle counter on a
+/// the motors enabled (with the swarm's look on `movers`, if given, as motor control runs it). `clock` is read before and after each stage (the DWT cycle counter on a
 /// Cortex-M4; anything, or a constant, elsewhere).
 pub fn step(
     network: &mut Network,
     control: &mut Control,
+    movers: Option<&mut Movers>,
     frame: &Frame,
     clock: &mut impl FnMut() -> u32,
 ) -> Report {
@@ -109,7 +111,14 @@ pub fn step(
             stamps[i] = stamps[i - 1];
         }
     }
-    let (command, frames) = control.step(&perception.vm, true);
+    // the swarm's look, as motor control runs it (`Control::step_seeing`); none in escape
+    let (command, frames) = match movers {
+        Some(m) => {
+            let look_change = network.params().look_change;
+            control.step_seeing(&perception.vm, (m, network.frame(), look_change), true)
+        }
+        None => control.step(&perception.vm, true),
+    };
     stamps[5] = clock();
     let mut h = crate::model::network::Fnv::new();
     for f in &frames {
@@ -144,7 +153,7 @@ mod tests {
             t += 10;
             t
         };
-        let prime = step(&mut n, &mut c, &[100; PIXELS], &mut clock);
+        let prime = step(&mut n, &mut c, None, &[100; PIXELS], &mut clock);
         assert_eq!(prime.frame, 0);
         assert_eq!(
             prime.stage_cycles(),
@@ -153,7 +162,7 @@ mod tests {
         );
         let mut f = [100u8; PIXELS];
         f[30 * WIDTH..40 * WIDTH].fill(0);
-        let r = step(&mut n, &mut c, &f, &mut clock);
+        let r = step(&mut n, &mut c, None, &f, &mut clock);
         assert_eq!(r.stage_cycles(), [10; 5]);
         assert_eq!(r.frame, 1);
         assert_eq!(r.digest, n.digest());
