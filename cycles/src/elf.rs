@@ -1,12 +1,14 @@
 //! Reading a thumbv7em ELF: what to load where, the symbol table and the allocated sections.
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use object::elf;
 use object::read::elf::{ElfFile32, FileHeader, ProgramHeader, SectionHeader};
 use object::{Endianness, Object, ObjectSymbol, SymbolKind};
 
 use crate::error::Error;
+use crate::memory::{CCM, SRAM};
 
 /// Bytes to place at `addr`, followed by `zeros` zero bytes (the NOBITS tail of a segment).
 pub struct Chunk {
@@ -65,6 +67,22 @@ pub struct Image {
     pub chunks: Vec<Chunk>,
     pub symbols: HashMap<String, Symbol>,
     pub sections: Vec<Section>,
+}
+
+impl Image {
+    /// The call stack's region, `_stack_end.._stack_start` (cortex-m-rt and this project's
+    /// memory.x define both; without `_stack_end`, from the start of the CCM or SRAM holding
+    /// `_stack_start`); `None` without `_stack_start`.
+    pub fn stack(&self) -> Option<Range<u32>> {
+        let top = self.symbols.get("_stack_start")?.value;
+        let bottom = self.symbols.get("_stack_end").map(|s| s.value).or_else(|| {
+            [CCM, SRAM]
+                .into_iter()
+                .find(|r| r.start < top && top <= r.end)
+                .map(|r| r.start)
+        });
+        Some(bottom.unwrap_or(top)..top)
+    }
 }
 
 fn bad(e: impl std::fmt::Display) -> Error {

@@ -10,7 +10,7 @@ use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
 use crate::emu::{self, cortex_m4, decode_at, emu, load, RegisterPage};
 use crate::error::{Access, Error};
-use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, PPB, SCB_CPACR, SCB_CPUID, SRAM};
+use crate::memory::{self, CCM, DWT_CYCCNT, DWT_PAGE, EXIT, PPB, SCB_CPACR, SCB_CPUID};
 use crate::ram::RamReport;
 use crate::timing::{Class, ClassStat, FlashModel, Timing};
 
@@ -270,17 +270,10 @@ impl Machine {
         let image = elf::parse(bytes)?;
         let mut m = Machine::new()?;
         load(&mut m.uc, &image.chunks)?;
-        m.symbols = image.symbols;
-        let top = m.symbols.get("_stack_start").map(|s| s.value);
-        if let Some(top) = top {
-            let bottom = m.symbols.get("_stack_end").map(|s| s.value).or_else(|| {
-                [CCM, SRAM]
-                    .into_iter()
-                    .find(|r| r.start < top && top <= r.end)
-                    .map(|r| r.start)
-            });
-            m.set_stack(bottom.unwrap_or(top)..top);
+        if let Some(stack) = image.stack() {
+            m.set_stack(stack);
         }
+        m.symbols = image.symbols;
         m.ram = RamReport::from_sections(image.sections);
         Ok(m)
     }

@@ -122,6 +122,11 @@ impl RamReport {
     pub fn region(&self, name: &str) -> Option<&RegionUse> {
         self.regions.iter().find(|r| r.name == name)
     }
+
+    /// Static use of the region `name` ("CCM", "SRAM"), bytes; 0 for a region with nothing.
+    pub fn used(&self, name: &str) -> u32 {
+        self.region(name).map_or(0, RegionUse::total)
+    }
 }
 
 impl fmt::Display for RamReport {

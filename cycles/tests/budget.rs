@@ -93,8 +93,7 @@ fn ram_keeps_its_headroom_in_each_region() {
         .map(|s| run_scene(&mut bench, s).unwrap().stack)
         .max()
         .unwrap();
-    let region = |name| report.region(name).map_or(0, |r| r.total());
-    let (ccm, sram) = (region("CCM"), region("SRAM"));
+    let (ccm, sram) = (report.used("CCM"), report.used("SRAM"));
     let stack_region = bench.machine().stack();
     let stack_size = stack_region.end - stack_region.start;
     println!(

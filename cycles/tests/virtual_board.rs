@@ -399,7 +399,7 @@ fn the_stack_keeps_its_headroom_at_boot_and_running() {
     b.run_for(1_500 * MS).expect("runs");
     let running = b.stack_high_water().unwrap();
     let machine = alvs_cycles::Machine::from_elf(&elf).unwrap();
-    let ccm = machine.ram_report().region("CCM").map_or(0, |r| r.total());
+    let ccm = machine.ram_report().used("CCM");
     let region = machine.stack().end - machine.stack().start;
     println!("CCM data {ccm} B; stack running {running} B, at boot {boot} B, of {region} B");
     // the frame step alone takes ≈ 4.6 KB (docs/budget.md); interrupts nest on top of it

@@ -117,7 +117,6 @@ fn run(a: Args) -> Result<(), String> {
         );
         return Ok(());
     }
-    let region = |name| ram.region(name).map_or(0, |r| r.total());
     let mut text = table(&results);
     text += &format!(
         "\n{WORST} **{}** frame {}: {p} pessimistic cycles = {:.2} ms at 180 MHz = {:.1} % of the \
@@ -130,8 +129,8 @@ fn run(a: Args) -> Result<(), String> {
         100.0 * p as f64 / PERIOD_CYCLES as f64,
         ms(GOAL_CYCLES),
         ram.static_ram(),
-        region("CCM"),
-        region("SRAM"),
+        ram.used("CCM"),
+        ram.used("SRAM"),
     );
     text += &format!("\n{ram}");
     println!("{text}");

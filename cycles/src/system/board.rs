@@ -223,13 +223,10 @@ impl Board {
         add_hooks(&mut uc)?;
         load(&mut uc, &image.chunks)?;
         // the stack's region (memory.x) painted, for the high-water mark
-        let at = |name: &str| image.symbols.get(name).map(|s| s.value);
-        let stack = match (at("_stack_end"), at("_stack_start")) {
-            (Some(bottom), Some(top)) if CCM.start <= bottom && bottom < top && top <= CCM.end => {
-                bottom..top
-            }
-            _ => CCM,
-        };
+        let stack = image
+            .stack()
+            .filter(|r| CCM.start <= r.start && r.start < r.end && r.end <= CCM.end)
+            .unwrap_or(CCM);
         emu::paint(&mut uc, stack.clone(), STACK_PAINT)?;
         let mut board = Board {
             uc,
