@@ -197,10 +197,7 @@ mod app {
             alvs_tasks::Params::ALVS.short_row,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES,
-            match BOOT_BEHAVIOUR {
-                Behaviour::Escape => "escape",
-                Behaviour::Swarm => "swarm",
-            }
+            BOOT_BEHAVIOUR.name()
         );
         supervisor::spawn().ok();
         summary::spawn().ok();
@@ -332,7 +329,7 @@ mod app {
         let enable = cx.shared.safety.lock(|s| s.motors_allowed());
         let movers = cx.local.movers;
         let (command, frames, turn, forward) = cx.shared.control.lock(|c| {
-            let look = (&mut *movers, network.frame(), network.params().look_change);
+            let look = Some((&mut *movers, network.frame(), network.params().look_change));
             let (command, frames) = c.step_seeing(&p.vm, look, enable);
             (command, frames, c.last_turn_deg(), c.last_forward_mm_s())
         });

@@ -235,16 +235,12 @@ struct ValidateArgs {
     proximity_mm: Option<f64>,
     /// Straight driving each turn costs the simulated robot, s: its cruise speed is the run's
     /// mean path speed / (1 − turns a second × this); 0 drives at the mean path speed.
-    #[arg(long, value_name = "S", default_value_t = validate_turn_cost())]
+    #[arg(long, value_name = "S", default_value_t = alvs_host::experiments::validate::TURN_COST_S)]
     turn_cost_s: f64,
     /// Instead of the runs: straight open-loop approaches to the wall at the recordings' mean
     /// speeds, and where the LGMD2 first alerts (docs/world.md, "What is left").
     #[arg(long)]
     approaches: bool,
-}
-
-fn validate_turn_cost() -> f64 {
-    alvs_host::experiments::validate::TURN_COST_S
 }
 
 #[derive(clap::Args)]

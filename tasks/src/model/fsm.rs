@@ -102,6 +102,16 @@ pub enum Behaviour {
     Swarm,
 }
 
+impl Behaviour {
+    /// Its name in logs ("escape", "swarm").
+    pub const fn name(self) -> &'static str {
+        match self {
+            Behaviour::Escape => "escape",
+            Behaviour::Swarm => "swarm",
+        }
+    }
+}
+
 /// The two phases of the short-mode γ path (Sec. II-B).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShortPhase {

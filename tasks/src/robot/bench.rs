@@ -111,14 +111,10 @@ pub fn step(
             stamps[i] = stamps[i - 1];
         }
     }
-    // the swarm's look, as motor control runs it (`Control::step_seeing`); none in escape
-    let (command, frames) = match movers {
-        Some(m) => {
-            let look_change = network.params().look_change;
-            control.step_seeing(&perception.vm, (m, network.frame(), look_change), true)
-        }
-        None => control.step(&perception.vm, true),
-    };
+    // the swarm's look, as motor control runs it; none in escape
+    let look_change = network.params().look_change;
+    let look = movers.map(|m| (m, network.frame(), look_change));
+    let (command, frames) = control.step_seeing(&perception.vm, look, true);
     stamps[5] = clock();
     let mut h = crate::model::network::Fnv::new();
     for f in &frames {

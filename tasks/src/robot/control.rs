@@ -63,17 +63,18 @@ impl<H: HeadingEstimator> Control<H> {
     /// [`Control::step`] with the frame perception just processed (`Network::frame`): in
     /// [`Behaviour::Swarm`] the look at other robots (`movers`, kept by the caller: 2.6 KB
     /// that escape never needs) runs on it first, with `look_change` (`Params::look_change`),
-    /// as the simulator's swarm robot does; in escape neither is touched.
+    /// as the simulator's swarm robot does; in escape, or without a look, it does not run.
     pub fn step_seeing(
         &mut self,
         vm: &Visuomotor,
-        look: (&mut Movers, &Frame, u8),
+        look: Option<(&mut Movers, &Frame, u8)>,
         enable: bool,
     ) -> (MotorCommand, MotorFrames) {
         let mut vm = *vm;
-        if self.fsm.behaviour() == Behaviour::Swarm {
-            let (movers, frame, look_change) = look;
-            vm.sighting = movers.step(frame, self.standing, look_change);
+        if let Some((movers, frame, look_change)) = look {
+            if self.fsm.behaviour() == Behaviour::Swarm {
+                vm.sighting = movers.step(frame, self.standing, look_change);
+            }
         }
         let (c, frames) = self.step(&vm, enable);
         self.standing = c.stands();
@@ -172,7 +173,7 @@ mod tests {
         let frame = [0u8; crate::PIXELS];
         let mut movers = Movers::new();
         for _ in 0..10 {
-            c.step_seeing(&alert, (&mut movers, &frame, 25), true);
+            c.step_seeing(&alert, Some((&mut movers, &frame, 25)), true);
         }
         assert_ne!(c.fsm().state(), State::Wander, "escaping");
         let heading = c.heading().heading_deg();
@@ -181,7 +182,7 @@ mod tests {
         assert_eq!(c.fsm().behaviour(), Behaviour::Swarm);
         assert_eq!(c.fsm().state(), State::Wander);
         assert_eq!(c.heading().heading_deg(), heading);
-        let (cmd, _) = c.step_seeing(&alert, (&mut movers, &frame, 25), true);
+        let (cmd, _) = c.step_seeing(&alert, Some((&mut movers, &frame, 25)), true);
         assert_eq!(cmd.state, State::Spin, "the swarm spins on the same alert");
     }
 
