@@ -510,7 +510,7 @@ struct CommonArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -709,7 +709,7 @@ struct ArenaArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -734,7 +734,7 @@ struct ModelArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

@@ -168,7 +168,8 @@ proptest! {
             takeoff_drive: vals[12],
             live_strength: counts[8],
             escape_saccade: counts[9],
-            saccade_gain: vals[13],
+            takeoff_gain: vals[13],
+            takeoff_yaw_deg_s: vals[6],
             look_every: counts[10],
             look_scans: counts[11],
         };

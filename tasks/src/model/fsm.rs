@@ -211,12 +211,20 @@ pub struct FsmParams {
     /// than 0 acts as 1. (The floor line's obstacle saccade, `Params::floor_row`, does not
     /// depend on it: `--model paper --param floor_row=52` makes it too.)
     pub escape_saccade: u32,
-    /// Heading gain of a saccade (an escape saccade, or the turn away from an obstacle close
-    /// ahead), as a multiple of `heading_gain`. 1 turns like every other turn; the default 3
-    /// turns 80° in about 0.25 s instead of 0.5 s, the robot standing meanwhile: a robot that
-    /// stands half a second in an approaching robot's path is hit (evasion on plain walls 2/9 →
-    /// 1/9, `docs/experiments.md`, "Closed-loop mechanisms"). Flies' saccades take 50 ms.
-    pub saccade_gain: f32,
+    /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
+    /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
+    /// escape's run and the γ path keep `heading_gain`: the γ path's retreat and forward arc
+    /// need wheel speed a saturated turn would take). 1 turns like every
+    /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
+    /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
+    /// tens of degrees take most of a turn, and an obstacle first seen about a second before
+    /// contact arrives while the robot is still turning (issue 30's trace of two threats,
+    /// `docs/ablation.md`). Flies' saccades and takeoff turns take 50–100 ms.
+    pub takeoff_gain: f32,
+    /// Yaw-rate limit of those turns, °/s. The paper's model keeps `max_yaw_deg_s` (360); the
+    /// default, `f32::INFINITY`, leaves only the wheels' limit (`max_wheel_mm_s` over half the
+    /// track: 716°/s for 300 mm/s and 48 mm), what the robot can do.
+    pub takeoff_yaw_deg_s: f32,
     /// Swarm: frames of wandering before the robot stops to look for moving objects (it also
     /// looks after every spin). A look stands until the look beside the network reports what
     /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
@@ -267,7 +275,8 @@ impl FsmParams {
         takeoff_drive: 0.0,
         live_strength: 0,
         escape_saccade: 0,
-        saccade_gain: 1.0,
+        takeoff_gain: 1.0,
+        takeoff_yaw_deg_s: 360.0,
         look_every: 0,
         look_scans: 3,
     };
@@ -279,7 +288,8 @@ impl FsmParams {
     pub const ALVS: FsmParams = FsmParams {
         escape_saccade: 1,
         takeoff_drive: 0.5,
-        saccade_gain: 3.0,
+        takeoff_gain: 3.0,
+        takeoff_yaw_deg_s: f32::INFINITY,
         look_every: 45,
         ..FsmParams::PAPER
     };
@@ -296,7 +306,7 @@ impl FsmParams {
     }
 
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 26] = [
+    pub const NAMES: [&'static str; 27] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -320,13 +330,15 @@ impl FsmParams {
         "takeoff_drive",
         "live_strength",
         "escape_saccade",
-        "saccade_gain",
+        "takeoff_gain",
+        "takeoff_yaw_deg_s",
         "look_every",
         "look_scans",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
-    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression);
+    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
+    /// `takeoff_yaw_deg_s` too: the wheels' limit);
     /// counts are whole frames; `live_strength` is 0, 1 or 2 and `escape_saccade` 0 or 1. A
     /// refused value leaves the parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
@@ -377,7 +389,8 @@ impl FsmParams {
             "retreat_frames" => p.retreat_frames = count()?,
             "escape_saccade" => p.escape_saccade = mode(1)?,
             "live_strength" => p.live_strength = mode(2)?,
-            "saccade_gain" => p.saccade_gain = real(false)?,
+            "takeoff_gain" => p.takeoff_gain = real(false)?,
+            "takeoff_yaw_deg_s" => p.takeoff_yaw_deg_s = real(true)?,
             "look_every" => p.look_every = count()?,
             "look_scans" => p.look_scans = count()?,
             _ => p.takeoff_drive = real(false)?,
@@ -429,6 +442,10 @@ impl core::fmt::Display for FsmParamError {
             FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
                 f,
                 "FSM parameter {name} must be a number ≥ 0, or inf (no suppression)"
+            ),
+            FsmParamError::Invalid { name } if *name == "takeoff_yaw_deg_s" => write!(
+                f,
+                "FSM parameter {name} must be a number ≥ 0, or inf (the wheels' limit)"
             ),
             FsmParamError::Invalid { name } => {
                 write!(f, "FSM parameter {name} must be a finite number ≥ 0")
@@ -519,8 +536,7 @@ pub struct Fsm {
     /// Wander has a heading to hold (false until the first valid frame).
     latched: bool,
     /// The current long takeoff is a saccade: an escape saccade (`FsmParams::escape_saccade`)
-    /// or the turn away from an obstacle close ahead. Both turn in place with
-    /// `FsmParams::saccade_gain`.
+    /// or the turn away from an obstacle close ahead. Both turn in place.
     saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
@@ -726,7 +742,7 @@ impl Fsm {
         self.quiet = 0;
     }
 
-    /// A saccade to `h + theta`: a long takeoff that turns in place (`FsmParams::saccade_gain`).
+    /// A saccade to `h + theta`: a long takeoff that turns in place.
     fn enter_saccade(&mut self, h: f32, theta: f32) {
         self.enter_turn(h, theta);
         self.saccade = true;
@@ -905,14 +921,11 @@ impl Fsm {
         let (v, omega) = match self.state {
             State::Wander => (p.cruise_mm_s, self.steer(self.setpoint, h)),
             // a saccade turns in place; a takeoff may drive while it turns
-            State::LongTakeoff if self.saccade => {
-                let err = p.saccade_gain * heading_error_deg(self.setpoint, h);
-                (0.0, yaw_rate_rad_s(err, p))
-            }
+            State::LongTakeoff if self.saccade => (0.0, self.takeoff_turn(self.setpoint, h)),
             State::LongTakeoff => {
                 let err = heading_error_deg(self.setpoint, h).to_radians();
                 let v = p.takeoff_drive * s * p.max_escape_mm_s * libm::cosf(err);
-                (v, self.steer(self.setpoint, h))
+                (v, self.takeoff_turn(self.setpoint, h))
             }
             State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
             State::ShortTakeoff => match self.short_phase {
@@ -937,6 +950,19 @@ impl Fsm {
 
     fn steer(&self, setpoint: f32, h: f32) -> f32 {
         yaw_rate_rad_s(heading_error_deg(setpoint, h), &self.params)
+    }
+
+    /// The yaw rate of an escape's turn (`FsmParams::takeoff_gain`, `takeoff_yaw_deg_s`), rad/s.
+    fn takeoff_turn(&self, setpoint: f32, h: f32) -> f32 {
+        let p = &self.params;
+        let yaw = p.takeoff_gain * p.heading_gain * heading_error_deg(setpoint, h);
+        // an unbounded limit leaves the turn to the wheels' (`mix`)
+        let yaw = if p.takeoff_yaw_deg_s == f32::INFINITY && !yaw.is_nan() {
+            yaw
+        } else {
+            limit(yaw, p.takeoff_yaw_deg_s)
+        };
+        yaw.to_radians()
     }
 
     fn command(&self, left: f32, right: f32) -> MotorCommand {
@@ -1029,7 +1055,8 @@ mod tests {
             FsmParams {
                 escape_saccade: 0,
                 takeoff_drive: 0.0,
-                saccade_gain: 1.0,
+                takeoff_gain: 1.0,
+                takeoff_yaw_deg_s: 360.0,
                 look_every: 0,
                 ..FsmParams::default()
             },
@@ -1040,10 +1067,11 @@ mod tests {
             (
                 a.escape_saccade,
                 a.takeoff_drive,
-                a.saccade_gain,
+                a.takeoff_gain,
+                a.takeoff_yaw_deg_s,
                 a.look_every
             ),
-            (1, 0.5, 3.0, 45)
+            (1, 0.5, 3.0, f32::INFINITY, 45)
         );
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
@@ -1169,8 +1197,11 @@ mod tests {
 
     #[test]
     fn a_long_takeoff_can_move_away_while_it_turns() {
+        // the paper's turn rate: the default's brisk turn takes all the wheels' speed at first
         let p = FsmParams {
             takeoff_drive: 1.0,
+            takeoff_gain: 1.0,
+            takeoff_yaw_deg_s: 360.0,
             ..FsmParams::default()
         };
         let mut f = Fsm::new(p, Behaviour::Escape);

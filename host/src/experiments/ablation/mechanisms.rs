@@ -173,11 +173,14 @@ pub const MECHANISMS: [Mechanism; 16] = [
         copy: |m, s| m.fsm.takeoff_drive = s.fsm.takeoff_drive,
     },
     Mechanism {
-        name: "saccade-gain",
-        what: "saccades turn three times as briskly",
-        fields: "saccade_gain",
+        name: "brisk-turns",
+        what: "an escape's turns three times as brisk, limited by the wheels only",
+        fields: "takeoff_gain, takeoff_yaw_deg_s",
         escape: true,
-        copy: |m, s| m.fsm.saccade_gain = s.fsm.saccade_gain,
+        copy: |m, s| {
+            m.fsm.takeoff_gain = s.fsm.takeoff_gain;
+            m.fsm.takeoff_yaw_deg_s = s.fsm.takeoff_yaw_deg_s;
+        },
     },
     Mechanism {
         name: "swarm-look",
