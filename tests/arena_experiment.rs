@@ -447,13 +447,15 @@ fn cli_model_paper_runs_the_papers_perception_and_motion() {
             "--fsm",
             "takeoff_drive=0.5",
             "--fsm",
-            "saccade_gain=3",
+            "takeoff_gain=3",
+            "--fsm",
+            "takeoff_yaw_deg_s=inf",
             "--fsm",
             "look_every=45"
         ]),
         ("paper".into(), "alvs".into()),
         "the default's FSM is the paper's with the escape saccade, the moving takeoff, brisk \
-         saccades and the swarm's looks"
+         turns and the swarm's looks"
     );
     assert_eq!(
         run(&["--fsm", "settle_frames=2"]),

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use alvs_host::arena::{BuiltinWorld, Kind};
+use alvs_host::experiments::ablation::{AblationConfig, Variant};
 use alvs_host::experiments::arena::{self, ArenaConfig};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
 use alvs_host::experiments::sweep::{Shard, Sweep};
@@ -118,6 +119,13 @@ enum Cmd {
     /// wall or obstacle, and the change from the unperturbed row. docs/robustness.md gives
     /// each perturbation's magnitude and its source.
     Robustness(RobustnessArgs),
+    /// The ablation (issue 30): every mechanism of the default removed one at a time, and
+    /// added to the paper's model one at a time, beside the default, the paper's model and
+    /// LGMD2, on the same seeds (11-20 by default) in the validated world: the arena (success
+    /// with its encounters, mean speed, time at a wall, time escaping), evasion on three walls
+    /// (correct side, collisions, seeds at the goal of 9/9 correct with at most one
+    /// collision) and two threats (away from the faster, collisions). docs/ablation.md.
+    Ablation(AblationArgs),
     /// The headline figures of stimuli, evasion, two-threats, arena and swarm in one world over
     /// several seeds (the report seeds 11-20 by default), printed as the markdown tables of
     /// docs/experiments.md: each row is the experiment's own default run in that world with
@@ -337,6 +345,53 @@ struct RobustnessArgs {
     png: PathBuf,
 }
 
+#[derive(clap::Args)]
+struct AblationArgs {
+    #[command(flatten)]
+    world: WorldArgs,
+    /// Seeds (repeatable). Default: 11-20 (the report seeds; tuning uses 1-5).
+    #[arg(long = "seed", value_name = "S")]
+    seeds: Vec<u64>,
+    /// Variant to run (repeatable): alvs, paper, lgmd2, alvs-M (the default without
+    /// mechanism M) or paper+M (the paper's model with it). Default: all of them; the
+    /// mechanisms are listed under the table and in docs/ablation.md.
+    #[arg(long = "variant", value_name = "NAME", value_parser = Variant::from_name)]
+    variants: Vec<Variant>,
+    /// Perturbation of the robustness suite the arena part runs under (repeatable). Default:
+    /// none.
+    #[arg(long = "perturbation", value_name = "NAME", value_parser = perturbation_parser())]
+    perturbations: Vec<Perturbation>,
+    /// Wall of the evasion part (repeatable): `world` (the world's own) or a --background
+    /// specification. Default: world, outdoor:11 and tests/data/photos/outdoor_2.jpg.
+    #[arg(long = "wall", value_name = "SPEC")]
+    walls: Vec<String>,
+    /// Simulated minutes of an arena trial.
+    #[arg(
+        long,
+        default_value_t = 5.0,
+        allow_negative_numbers = true,
+        value_name = "M"
+    )]
+    minutes: f64,
+    /// Robots in the arena.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    robots: usize,
+    /// Two-threat runs per seed (0: leave the part out).
+    #[arg(long, default_value_t = 50, value_name = "N")]
+    two_threat_runs: usize,
+    /// Leave out the replay of the recorded clips (run once per variant).
+    #[arg(long)]
+    no_clips: bool,
+    #[command(flatten)]
+    sweep: SweepArgs,
+    /// Write the rows as JSON (with --shard: the shard file).
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where summary.png goes.
+    #[arg(long, default_value = "out/ablation", value_name = "DIR")]
+    png: PathBuf,
+}
+
 /// The controllers the robustness suite compares.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum SuiteArg {
@@ -465,7 +520,7 @@ struct CommonArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -665,7 +720,7 @@ struct ArenaArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -691,7 +746,7 @@ struct ModelArgs {
     /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
     /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
     /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade saccade_gain look_every look_scans.
+    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).
@@ -943,6 +998,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Recordings { cmd } => run_recordings(cmd),
         Cmd::Validate(a) => run_validate(a),
         Cmd::Robustness(a) => run_robustness(a),
+        Cmd::Ablation(a) => run_ablation(a),
         Cmd::Tables(a) => run_tables(a),
         Cmd::Merge(a) => shards::merge(a),
         Cmd::Budget { args } => run_cycles_bin("alvs-budget", &args),
@@ -1333,6 +1389,48 @@ fn robustness_config(a: &RobustnessArgs) -> Result<RobustnessConfig> {
 
 fn run_robustness(a: RobustnessArgs) -> Result<()> {
     let config = robustness_config(&a)?;
+    config.validate()?;
+    let out = Outputs {
+        png: &a.png,
+        json: a.json.as_deref(),
+        trace: None,
+    };
+    a.sweep.execute(&config, &out, config.total_frames())
+}
+
+/// A repeatable option's values, or the default when none was given.
+fn given_or<T: Clone>(given: &[T], default: Vec<T>) -> Vec<T> {
+    if given.is_empty() {
+        default
+    } else {
+        given.to_vec()
+    }
+}
+
+fn ablation_config(a: &AblationArgs) -> Result<AblationConfig> {
+    let d = AblationConfig::default();
+    Ok(AblationConfig {
+        world: a.world.builtin(),
+        seeds: given_or(&a.seeds, d.seeds),
+        variants: given_or(&a.variants, d.variants),
+        perturbations: given_or(&a.perturbations, d.perturbations),
+        walls: if a.walls.is_empty() {
+            d.walls
+        } else {
+            a.walls
+                .iter()
+                .map(|w| (w != "world").then(|| w.clone()))
+                .collect()
+        },
+        robots: a.robots,
+        minutes: a.minutes,
+        two_threat_runs: a.two_threat_runs,
+        clips: !a.no_clips,
+    })
+}
+
+fn run_ablation(a: AblationArgs) -> Result<()> {
+    let config = ablation_config(&a)?;
     config.validate()?;
     let out = Outputs {
         png: &a.png,

@@ -112,6 +112,7 @@ pub fn merge(a: MergeArgs) -> Result<()> {
         Cmd::Swarm(x) => pool(&crate::swarm_config(&x)?, &files, &out),
         Cmd::Stimuli(x) => pool(&crate::stimuli_config(&x)?, &files, &out),
         Cmd::Robustness(x) => pool(&crate::robustness_config(&x)?, &files, &out),
+        Cmd::Ablation(x) => pool(&crate::ablation_config(&x)?, &files, &out),
         _ => bail!("`{}` is not an experiment that can be sharded", line()),
     }
 }

@@ -156,6 +156,50 @@ fn the_obstacle_sets_the_saccade_whatever_the_fields_report() {
 }
 
 #[test]
+fn the_defaults_takeoff_turns_at_the_wheels_limit_and_the_papers_at_360_deg_s() {
+    // the first frame of a long takeoff from a threat on the right: ~150° to turn left
+    let first = |p: FsmParams| {
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        let c = f.step(&long(RIGHT_X), 0.0);
+        assert_eq!(c.state, State::LongTakeoff);
+        assert!(
+            c.heading_setpoint_deg < -120.0,
+            "{}",
+            c.heading_setpoint_deg
+        );
+        c
+    };
+    let paper = first(FsmParams {
+        takeoff_drive: 0.0,
+        ..FsmParams::PAPER
+    });
+    let half_track = FsmParams::PAPER.track_mm / 2.0;
+    assert!((paper.right_mm_s - 360f32.to_radians() * half_track).abs() < 0.1);
+    assert!(
+        (paper.left_mm_s + paper.right_mm_s).abs() < 1e-3,
+        "in place"
+    );
+    // the default: the wheels at their limit, the turn first (it drives backwards only with
+    // what the limit leaves, here nothing)
+    let alvs = first(FsmParams::ALVS);
+    let max = FsmParams::ALVS.max_wheel_mm_s;
+    assert!((alvs.right_mm_s - max).abs() < 0.1 && (alvs.left_mm_s + max).abs() < 0.1);
+    // wander keeps its gentle steering: 4/s on a 20° error, under both
+    for p in [FsmParams::PAPER, FsmParams::ALVS] {
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        let c = f.step(&quiet(), 20.0);
+        assert_eq!(c.state, State::Wander);
+        let turn = (c.right_mm_s - c.left_mm_s) / 2.0;
+        assert!(
+            (turn - 80f32.to_radians() * half_track).abs() < 0.1,
+            "{turn}"
+        );
+    }
+}
+
+#[test]
 fn the_defaults_saccades_turn_three_times_as_briskly() {
     let turn = |p: FsmParams| {
         let (mut f, sp) = escaping(p, 0.0);
@@ -168,7 +212,7 @@ fn the_defaults_saccades_turn_three_times_as_briskly() {
     };
     let plain = turn(params());
     let brisk = turn(FsmParams {
-        saccade_gain: FsmParams::ALVS.saccade_gain,
+        takeoff_gain: FsmParams::ALVS.takeoff_gain,
         ..params()
     });
     assert!((plain - 80f32.to_radians() * 24.0).abs() < 0.1, "{plain}");

@@ -29,6 +29,7 @@ use anyhow::{bail, ensure, Context, Result};
 
 use crate::arena::{BuiltinWorld, Kind, WallTexture, World};
 
+pub mod ablation;
 pub mod arena;
 pub mod encounter;
 pub mod evasion;

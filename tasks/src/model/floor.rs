@@ -21,7 +21,12 @@
 //! (`docs/hardware.md`, "Geometry"), and the firmware's default runs the floor line: measure
 //! the height at bring-up and set [`CAMERA_HEIGHT_MM`] (or `floor_row`) to it: a wrong height
 //! moves the distance. A floor that is not one grey (a pattern) would make it fire, and the
-//! robot turn, again and again.
+//! robot turn, again and again, but for one thing geometry gives: whatever can touch the
+//! robot stands on the floor and is taller than the camera (a Colias is 28 mm, the walls
+//! higher), so its image covers the floor from its foot up to the horizon, while a mark on a
+//! patterned floor is a patch of the floor itself. A foot counts only when at least
+//! [`FOOT_COVER_PCT`] % of its column's rows from the foot up to the horizon differ from the
+//! floor's grey (the robustness suite's textured floor, `docs/robustness.md`).
 
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
 
@@ -35,6 +40,11 @@ pub const PATH_HALF_WIDTH_MM: i32 = 42;
 pub const FLOOR_TOL: i32 = 12;
 /// Consecutive rows, bottom up, that must differ from the floor.
 pub const FOOT_ROWS: usize = 2;
+/// Share of a column's rows, from a foot up to the horizon, that must differ from the floor's
+/// grey for the foot to count: an obstacle taller than the camera covers them all (its
+/// pattern may match the floor here and there), a mark on the floor only its own few. A
+/// majority, the lenient choice between the two.
+pub const FOOT_COVER_PCT: usize = 50;
 /// Bottom-row pixels, 10 columns apart around the centre, whose median is the floor's grey.
 pub const FLOOR_SAMPLE: usize = 5;
 
@@ -112,14 +122,24 @@ pub fn nearest_foot(frame: &[u8; PIXELS], x: u8) -> Option<u8> {
 const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 
 /// The foot of column `x` at or below row `top` (≥ [`FOOT_ROWS`] − 1): the lowest run of
-/// [`FOOT_ROWS`] rows that differ from `floor` (the run's lower row).
+/// [`FOOT_ROWS`] rows that differ from `floor` (the run's lower row) whose column above is
+/// covered up to the horizon ([`FOOT_COVER_PCT`]).
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
+    let differs = |y: usize| (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
     let mut run = 0;
     (top + 1 - FOOT_ROWS..HEIGHT).rev().find_map(|y| {
-        let differs = (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
-        run = if differs { run + 1 } else { 0 };
-        (run == FOOT_ROWS).then_some(y + FOOT_ROWS - 1)
+        run = if differs(y) { run + 1 } else { 0 };
+        let foot = y + FOOT_ROWS - 1;
+        (run == FOOT_ROWS && covered(foot, &differs)).then_some(foot)
     })
+}
+
+/// Whether at least [`FOOT_COVER_PCT`] % of the rows from `foot` up to the row below the
+/// horizon differ from the floor.
+fn covered(foot: usize, differs: &impl Fn(usize) -> bool) -> bool {
+    let rows = (foot + 1).saturating_sub(BELOW_HORIZON);
+    let hits = (BELOW_HORIZON..=foot).filter(|&y| differs(y)).count();
+    100 * hits >= FOOT_COVER_PCT * rows
 }
 
 /// Median grey of [`FLOOR_SAMPLE`] bottom-row pixels spread over its middle 40 columns.
@@ -226,6 +246,31 @@ mod tests {
         // nothing but floor up to the horizon, and a column out of the image
         assert_eq!(nearest_foot(&scene(0, 0..0, 0), 49), None);
         assert_eq!(nearest_foot(&f, 99), None);
+    }
+
+    #[test]
+    fn marks_on_a_patterned_floor_are_not_feet_and_a_wall_over_them_is_found() {
+        // dark patches on the floor, each a few rows tall, in every column
+        let mut f = scene(0, 0..0, 0);
+        for y in (40..HEIGHT).step_by(8) {
+            for x in 0..WIDTH {
+                f[y * WIDTH + x] = 60;
+                f[(y + 1) * WIDTH + x] = 60;
+                f[(y + 2) * WIDTH + x] = 60;
+            }
+        }
+        assert_eq!(obstacle_ahead(&f, 52), None);
+        assert_eq!(nearest_foot(&f, 49), None);
+        // a wall standing on that floor at row 55, its face a little patterned too
+        for y in 36..=55 {
+            for x in 0..WIDTH {
+                f[y * WIDTH + x] = if y % 7 == 0 { FLOOR } else { 40 };
+            }
+        }
+        assert_eq!(obstacle_ahead(&f, 52), Some(49));
+        // a mark just before the wall's foot, its column above covered by the wall, reads as
+        // the nearer foot: the error falls on the safe side
+        assert_eq!(nearest_foot(&f, 49), Some(66));
     }
 
     #[test]

@@ -221,12 +221,20 @@ pub struct FsmParams {
     /// than 0 acts as 1. (The floor line's obstacle saccade, `Params::floor_row`, does not
     /// depend on it: `--model paper --param floor_row=52` makes it too.)
     pub escape_saccade: u32,
-    /// Heading gain of a saccade (an escape saccade, or the turn away from an obstacle close
-    /// ahead), as a multiple of `heading_gain`. 1 turns like every other turn; the default 3
-    /// turns 80° in about 0.25 s instead of 0.5 s, the robot standing meanwhile: a robot that
-    /// stands half a second in an approaching robot's path is hit (evasion on plain walls 2/9 →
-    /// 1/9, `docs/experiments.md`, "Closed-loop mechanisms"). Flies' saccades take 50 ms.
-    pub saccade_gain: f32,
+    /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
+    /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
+    /// escape's run and the γ path keep `heading_gain`: the γ path's retreat and forward arc
+    /// need wheel speed a saturated turn would take). 1 turns like every
+    /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
+    /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
+    /// tens of degrees take most of a turn, and an obstacle first seen about a second before
+    /// contact arrives while the robot is still turning (issue 30's trace of two threats,
+    /// `docs/ablation.md`). Flies' saccades and takeoff turns take 50–100 ms.
+    pub takeoff_gain: f32,
+    /// Yaw-rate limit of those turns, °/s. The paper's model keeps `max_yaw_deg_s` (360); the
+    /// default, `f32::INFINITY`, leaves only the wheels' limit (`max_wheel_mm_s` over half the
+    /// track: 716°/s for 300 mm/s and 48 mm), what the robot can do.
+    pub takeoff_yaw_deg_s: f32,
     /// Swarm: frames of wandering before the robot stops to look for moving objects (it also
     /// looks after every spin). A look stands until the look beside the network reports what
     /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
@@ -287,7 +295,8 @@ impl FsmParams {
         takeoff_drive: 0.0,
         live_strength: 0,
         escape_saccade: 0,
-        saccade_gain: 1.0,
+        takeoff_gain: 1.0,
+        takeoff_yaw_deg_s: 360.0,
         look_every: 0,
         look_scans: 3,
         short_from_long: false,
@@ -297,11 +306,13 @@ impl FsmParams {
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
     /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
     /// mechanisms"): the escape saccade, a takeoff that moves at half the escape speed while
-    /// it turns, saccades three times as brisk as other turns, and the swarm's looks.
+    /// it turns, takeoff turns three times as brisk and limited by the wheels only, and the
+    /// swarm's looks.
     pub const ALVS: FsmParams = FsmParams {
         escape_saccade: 1,
         takeoff_drive: 0.5,
-        saccade_gain: 3.0,
+        takeoff_gain: 3.0,
+        takeoff_yaw_deg_s: f32::INFINITY,
         look_every: 45,
         ..FsmParams::PAPER
     };
@@ -319,6 +330,8 @@ impl FsmParams {
         max_wheel_mm_s: 180.0,
         heading_gain: 6.2,
         max_yaw_deg_s: 239.0,
+        // its takeoffs turn with the same PID
+        takeoff_yaw_deg_s: 239.0,
         min_escape_frames: 0,
         quiet_frames: 0,
         takeoff_timeout_frames: u32::MAX,
@@ -343,7 +356,7 @@ impl FsmParams {
     }
 
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 28] = [
+    pub const NAMES: [&'static str; 29] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -367,7 +380,8 @@ impl FsmParams {
         "takeoff_drive",
         "live_strength",
         "escape_saccade",
-        "saccade_gain",
+        "takeoff_gain",
+        "takeoff_yaw_deg_s",
         "look_every",
         "look_scans",
         "short_from_long",
@@ -375,10 +389,10 @@ impl FsmParams {
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
-    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression);
-    /// counts are whole frames; `live_strength` is 0, 1 or 2, `escape_saccade` and
-    /// `short_from_long` 0 or 1; `wander_stop_frames` a count or `none`. A refused value
-    /// leaves the parameters unchanged.
+    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
+    /// `takeoff_yaw_deg_s` too: the wheels' limit); counts are whole frames; `live_strength`
+    /// is 0, 1 or 2, `escape_saccade` and `short_from_long` 0 or 1; `wander_stop_frames` a
+    /// count or `none`. A refused value leaves the parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
         let v = value.trim();
         let name: &'static str = FsmParams::NAMES
@@ -427,7 +441,8 @@ impl FsmParams {
             "retreat_frames" => p.retreat_frames = count()?,
             "escape_saccade" => p.escape_saccade = mode(1)?,
             "live_strength" => p.live_strength = mode(2)?,
-            "saccade_gain" => p.saccade_gain = real(false)?,
+            "takeoff_gain" => p.takeoff_gain = real(false)?,
+            "takeoff_yaw_deg_s" => p.takeoff_yaw_deg_s = real(true)?,
             "look_every" => p.look_every = count()?,
             "look_scans" => p.look_scans = count()?,
             "short_from_long" => p.short_from_long = mode(1)? != 0,
@@ -494,6 +509,10 @@ impl core::fmt::Display for FsmParamError {
             FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
                 f,
                 "FSM parameter {name} must be a number ≥ 0, or inf (no suppression)"
+            ),
+            FsmParamError::Invalid { name } if *name == "takeoff_yaw_deg_s" => write!(
+                f,
+                "FSM parameter {name} must be a number ≥ 0, or inf (the wheels' limit)"
             ),
             FsmParamError::Invalid { name } => {
                 write!(f, "FSM parameter {name} must be a finite number ≥ 0")
@@ -584,8 +603,7 @@ pub struct Fsm {
     /// Wander has a heading to hold (false until the first valid frame).
     latched: bool,
     /// The current long takeoff is a saccade: an escape saccade (`FsmParams::escape_saccade`)
-    /// or the turn away from an obstacle close ahead. Both turn in place with
-    /// `FsmParams::saccade_gain`.
+    /// or the turn away from an obstacle close ahead. Both turn in place.
     saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
@@ -799,7 +817,7 @@ impl Fsm {
         self.quiet = 0;
     }
 
-    /// A saccade to `h + theta`: a long takeoff that turns in place (`FsmParams::saccade_gain`).
+    /// A saccade to `h + theta`: a long takeoff that turns in place.
     fn enter_saccade(&mut self, h: f32, theta: f32) {
         self.enter_turn(h, theta);
         self.saccade = true;
@@ -986,14 +1004,11 @@ impl Fsm {
         let (v, omega) = match self.state {
             State::Wander => (p.cruise_mm_s, self.steer(self.setpoint, h)),
             // a saccade turns in place; a takeoff may drive while it turns
-            State::LongTakeoff if self.saccade => {
-                let err = p.saccade_gain * heading_error_deg(self.setpoint, h);
-                (0.0, yaw_rate_rad_s(err, p))
-            }
+            State::LongTakeoff if self.saccade => (0.0, self.takeoff_turn(self.setpoint, h)),
             State::LongTakeoff => {
                 let err = heading_error_deg(self.setpoint, h).to_radians();
                 let v = p.takeoff_drive * s * p.max_escape_mm_s * libm::cosf(err);
-                (v, self.steer(self.setpoint, h))
+                (v, self.takeoff_turn(self.setpoint, h))
             }
             State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
             State::ShortTakeoff => match self.short_phase {
@@ -1019,6 +1034,19 @@ impl Fsm {
 
     fn steer(&self, setpoint: f32, h: f32) -> f32 {
         yaw_rate_rad_s(heading_error_deg(setpoint, h), &self.params)
+    }
+
+    /// The yaw rate of an escape's turn (`FsmParams::takeoff_gain`, `takeoff_yaw_deg_s`), rad/s.
+    fn takeoff_turn(&self, setpoint: f32, h: f32) -> f32 {
+        let p = &self.params;
+        let yaw = p.takeoff_gain * p.heading_gain * heading_error_deg(setpoint, h);
+        // an unbounded limit leaves the turn to the wheels' (`mix`)
+        let yaw = if p.takeoff_yaw_deg_s == f32::INFINITY && !yaw.is_nan() {
+            yaw
+        } else {
+            limit(yaw, p.takeoff_yaw_deg_s)
+        };
+        yaw.to_radians()
     }
 
     fn command(&self, left: f32, right: f32) -> MotorCommand {
@@ -1111,7 +1139,8 @@ mod tests {
             FsmParams {
                 escape_saccade: 0,
                 takeoff_drive: 0.0,
-                saccade_gain: 1.0,
+                takeoff_gain: 1.0,
+                takeoff_yaw_deg_s: 360.0,
                 look_every: 0,
                 ..FsmParams::default()
             },
@@ -1122,10 +1151,11 @@ mod tests {
             (
                 a.escape_saccade,
                 a.takeoff_drive,
-                a.saccade_gain,
+                a.takeoff_gain,
+                a.takeoff_yaw_deg_s,
                 a.look_every
             ),
-            (1, 0.5, 3.0, 45)
+            (1, 0.5, 3.0, f32::INFINITY, 45)
         );
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
@@ -1303,8 +1333,11 @@ mod tests {
 
     #[test]
     fn a_long_takeoff_can_move_away_while_it_turns() {
+        // the paper's turn rate: the default's brisk turn takes all the wheels' speed at first
         let p = FsmParams {
             takeoff_drive: 1.0,
+            takeoff_gain: 1.0,
+            takeoff_yaw_deg_s: 360.0,
             ..FsmParams::default()
         };
         let mut f = Fsm::new(p, Behaviour::Escape);

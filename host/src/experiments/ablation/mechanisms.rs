@@ -1,0 +1,317 @@
+//! The default's mechanisms, one entry per thing it adds to the paper's model, and the variants
+//! the ablation runs: the default, the paper's model, the default without one mechanism, the
+//! paper's model with one.
+//!
+//! A mechanism is the set of parameters that only work together (`q_arms` 3 needs
+//! `q_grow_pct`; the swarm's look needs both its perception and its motion half). Removing it
+//! sets those parameters to the paper's values; adding it sets them to the default's. The test
+//! below holds the list complete: removing every mechanism from the default gives the paper's
+//! model exactly, and each one changes something.
+
+use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::Params;
+use serde::Serialize;
+
+use crate::arena::Kind;
+
+/// A model: its perception and its motion parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Model {
+    /// Perception.
+    pub params: Params,
+    /// Motion (the FSM).
+    pub fsm: FsmParams,
+}
+
+impl Model {
+    /// The default (`--model alvs`).
+    pub const ALVS: Model = Model {
+        params: Params::ALVS,
+        fsm: FsmParams::ALVS,
+    };
+    /// The paper's model (`--model paper`).
+    pub const PAPER: Model = Model {
+        params: Params::PAPER,
+        fsm: FsmParams::PAPER,
+    };
+}
+
+/// One mechanism of the default.
+#[derive(Debug, Clone, Copy)]
+pub struct Mechanism {
+    /// Its name in variant names (`alvs-NAME`, `paper+NAME`).
+    pub name: &'static str,
+    /// What it does, in a few words.
+    pub what: &'static str,
+    /// The parameters it sets.
+    pub fields: &'static str,
+    /// Whether the escape experiments can see it at all (the swarm's look acts only in the
+    /// swarm behaviour).
+    pub escape: bool,
+    /// Copies its parameters from the second model into the first.
+    copy: fn(&mut Model, &Model),
+}
+
+impl Mechanism {
+    /// `m` with this mechanism's parameters at the paper's values.
+    pub fn removed_from(&self, m: Model) -> Model {
+        let mut out = m;
+        (self.copy)(&mut out, &Model::PAPER);
+        out
+    }
+
+    /// `m` with this mechanism's parameters at the default's values.
+    pub fn added_to(&self, m: Model) -> Model {
+        let mut out = m;
+        (self.copy)(&mut out, &Model::ALVS);
+        out
+    }
+}
+
+/// Every mechanism the default adds to the paper's model, perception first (in the order of
+/// `Params`), then motion (`FsmParams`).
+pub const MECHANISMS: [Mechanism; 16] = [
+    Mechanism {
+        name: "warmup",
+        what: "no field stimulated while the delay line refills",
+        fields: "warmup",
+        escape: true,
+        copy: |m, s| m.params.warmup = s.params.warmup,
+    },
+    Mechanism {
+        name: "flicker",
+        what: "a whole-field brightness step is not motion",
+        fields: "flicker_pct",
+        escape: true,
+        copy: |m, s| m.params.flicker_pct = s.params.flicker_pct,
+    },
+    Mechanism {
+        name: "blocked",
+        what: "turn around when driving changes nothing (efference copy)",
+        fields: "blocked_change",
+        escape: true,
+        copy: |m, s| m.params.blocked_change = s.params.blocked_change,
+    },
+    Mechanism {
+        name: "derotate",
+        what: "re-register the retina to each turn (efference copy)",
+        fields: "derotate",
+        escape: true,
+        copy: |m, s| m.params.derotate = s.params.derotate,
+    },
+    Mechanism {
+        name: "adapt",
+        what: "short mode needs a response growing above its running mean",
+        fields: "adapt_frames",
+        escape: true,
+        copy: |m, s| m.params.adapt_frames = s.params.adapt_frames,
+    },
+    Mechanism {
+        name: "three-arms",
+        what: "3 of 4 quadrants open the gate if their drive grows",
+        fields: "q_arms, q_grow_pct",
+        escape: true,
+        copy: |m, s| {
+            m.params.q_arms = s.params.q_arms;
+            m.params.q_grow_pct = s.params.q_grow_pct;
+        },
+    },
+    Mechanism {
+        name: "quiet-attention",
+        what: "a lower T_a when little of the scene moves",
+        fields: "t_a_quiet",
+        escape: true,
+        copy: |m, s| m.params.t_a_quiet = s.params.t_a_quiet,
+    },
+    Mechanism {
+        name: "band",
+        what: "driving, fields above the body's height are silent",
+        fields: "band_row",
+        escape: true,
+        copy: |m, s| m.params.band_row = s.params.band_row,
+    },
+    Mechanism {
+        name: "floor",
+        what: "an obstacle's foot near in the path alerts (floor line)",
+        fields: "floor_row",
+        escape: true,
+        copy: |m, s| m.params.floor_row = s.params.floor_row,
+    },
+    Mechanism {
+        name: "short-path",
+        what: "driving, short mode only for a threat in the path",
+        fields: "short_cols",
+        escape: true,
+        copy: |m, s| m.params.short_cols = s.params.short_cols,
+    },
+    Mechanism {
+        name: "short-near",
+        what: "driving, short mode only for a threat whose foot is near",
+        fields: "short_row",
+        escape: true,
+        copy: |m, s| m.params.short_row = s.params.short_row,
+    },
+    Mechanism {
+        name: "t-s",
+        what: "T_s 5500 instead of Table I's 7000",
+        fields: "t_s",
+        escape: true,
+        copy: |m, s| m.params.t_s = s.params.t_s,
+    },
+    Mechanism {
+        name: "escape-saccade",
+        what: "short mode while escaping turns away in place, no new γ path",
+        fields: "escape_saccade",
+        escape: true,
+        copy: |m, s| m.fsm.escape_saccade = s.fsm.escape_saccade,
+    },
+    Mechanism {
+        name: "takeoff-drive",
+        what: "the long takeoff moves along its set-point while it turns",
+        fields: "takeoff_drive",
+        escape: true,
+        copy: |m, s| m.fsm.takeoff_drive = s.fsm.takeoff_drive,
+    },
+    Mechanism {
+        name: "brisk-turns",
+        what: "an escape's turns three times as brisk, limited by the wheels only",
+        fields: "takeoff_gain, takeoff_yaw_deg_s",
+        escape: true,
+        copy: |m, s| {
+            m.fsm.takeoff_gain = s.fsm.takeoff_gain;
+            m.fsm.takeoff_yaw_deg_s = s.fsm.takeoff_yaw_deg_s;
+        },
+    },
+    Mechanism {
+        name: "swarm-look",
+        what: "swarm: stand and look for movers, wander towards them",
+        fields: "look_change, look_every",
+        escape: false,
+        copy: |m, s| {
+            m.params.look_change = s.params.look_change;
+            m.fsm.look_every = s.fsm.look_every;
+        },
+    },
+];
+
+/// A mechanism by name.
+pub fn mechanism(name: &str) -> Option<&'static Mechanism> {
+    MECHANISMS.iter().find(|m| m.name == name)
+}
+
+/// What one row of the ablation runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(into = "String")]
+pub enum Variant {
+    /// The default.
+    Alvs,
+    /// The paper's model.
+    Paper,
+    /// The LGMD2 baseline, as the arena runs it.
+    Lgmd2,
+    /// The default without `MECHANISMS[i]`.
+    Without(usize),
+    /// The paper's model with `MECHANISMS[i]`.
+    With(usize),
+}
+
+impl From<Variant> for String {
+    fn from(v: Variant) -> String {
+        v.name()
+    }
+}
+
+impl Variant {
+    /// Its name: `alvs`, `paper`, `lgmd2`, `alvs-MECHANISM`, `paper+MECHANISM`.
+    pub fn name(self) -> String {
+        match self {
+            Variant::Alvs => "alvs".into(),
+            Variant::Paper => "paper".into(),
+            Variant::Lgmd2 => "lgmd2".into(),
+            Variant::Without(i) => format!("alvs-{}", MECHANISMS[i].name),
+            Variant::With(i) => format!("paper+{}", MECHANISMS[i].name),
+        }
+    }
+
+    /// Inverse of [`Variant::name`]; the error lists what is known.
+    pub fn from_name(s: &str) -> Result<Variant, String> {
+        let index = |m: &str| MECHANISMS.iter().position(|x| x.name == m);
+        let v = match s {
+            "alvs" => Some(Variant::Alvs),
+            "paper" => Some(Variant::Paper),
+            "lgmd2" => Some(Variant::Lgmd2),
+            _ => s
+                .strip_prefix("alvs-")
+                .and_then(index)
+                .map(Variant::Without)
+                .or_else(|| s.strip_prefix("paper+").and_then(index).map(Variant::With)),
+        };
+        v.ok_or_else(|| {
+            let names: Vec<&str> = MECHANISMS.iter().map(|m| m.name).collect();
+            format!(
+                "unknown variant {s:?}: alvs, paper, lgmd2, alvs-M or paper+M with M one of {}",
+                names.join(", ")
+            )
+        })
+    }
+
+    /// The default plan: the default, the paper's model and LGMD2, then the default without
+    /// each mechanism the escape experiments can see, then the paper's model with each.
+    pub fn all() -> Vec<Variant> {
+        let escape = || (0..MECHANISMS.len()).filter(|&i| MECHANISMS[i].escape);
+        [Variant::Alvs, Variant::Paper, Variant::Lgmd2]
+            .into_iter()
+            .chain(escape().map(Variant::Without))
+            .chain(escape().map(Variant::With))
+            .collect()
+    }
+
+    /// The controller the tested robots run.
+    pub fn kind(self) -> Kind {
+        match self {
+            Variant::Lgmd2 => Kind::Lgmd2,
+            _ => Kind::Alvs,
+        }
+    }
+
+    /// Its model (LGMD2 takes its cruise, turn and alignment from the default's motion, as
+    /// the arena gives it).
+    pub fn model(self) -> Model {
+        match self {
+            Variant::Alvs | Variant::Lgmd2 => Model::ALVS,
+            Variant::Paper => Model::PAPER,
+            Variant::Without(i) => MECHANISMS[i].removed_from(Model::ALVS),
+            Variant::With(i) => MECHANISMS[i].added_to(Model::PAPER),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mechanisms_are_exactly_what_the_default_adds_to_the_paper() {
+        let all_removed = MECHANISMS
+            .iter()
+            .fold(Model::ALVS, |m, x| x.removed_from(m));
+        assert_eq!(all_removed, Model::PAPER);
+        let all_added = MECHANISMS.iter().fold(Model::PAPER, |m, x| x.added_to(m));
+        assert_eq!(all_added, Model::ALVS);
+        for m in &MECHANISMS {
+            assert_ne!(m.removed_from(Model::ALVS), Model::ALVS, "{}", m.name);
+            assert_ne!(m.added_to(Model::PAPER), Model::PAPER, "{}", m.name);
+        }
+    }
+
+    #[test]
+    fn variant_names_round_trip_and_unknown_ones_are_refused() {
+        for v in Variant::all() {
+            assert_eq!(Variant::from_name(&v.name()), Ok(v));
+        }
+        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(8)));
+        let e = Variant::from_name("alvs-wings").unwrap_err();
+        assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");
+        assert!(Variant::from_name("paper+").is_err());
+    }
+}
