@@ -1179,7 +1179,10 @@ mod tests {
             (fw.max_escape_mm_s, fw.retreat_mm_s, fw.max_wheel_mm_s),
             (180.0, 180.0, 180.0)
         );
-        assert_eq!((fw.heading_gain, fw.max_yaw_deg_s), (6.2, 239.0));
+        assert_eq!(
+            (fw.heading_gain, fw.max_yaw_deg_s, fw.takeoff_yaw_deg_s),
+            (6.2, 239.0, 239.0)
+        );
         assert_eq!((fw.min_escape_frames, fw.quiet_frames), (0, 0));
         assert_eq!(fw.takeoff_timeout_frames, u32::MAX);
         assert_eq!(fw.saccade_yaw_deg_s, f32::INFINITY);
@@ -1201,6 +1204,7 @@ mod tests {
                 max_wheel_mm_s: p.max_wheel_mm_s,
                 heading_gain: p.heading_gain,
                 max_yaw_deg_s: p.max_yaw_deg_s,
+                takeoff_yaw_deg_s: p.takeoff_yaw_deg_s,
                 min_escape_frames: p.min_escape_frames,
                 quiet_frames: p.quiet_frames,
                 takeoff_timeout_frames: p.takeoff_timeout_frames,
