@@ -465,6 +465,38 @@ fn cli_model_paper_runs_the_papers_perception_and_motion() {
 }
 
 #[test]
+fn cli_model_firmware_runs_the_authors_firmware() {
+    let d = tmp("firmware");
+    let json = d.join("arena.json");
+    succeed(
+        alvs()
+            .args(["arena", "--minutes", "0.02", "--controller", "alvs"])
+            .args(["--background", "plain:128", "--model", "firmware", "--json"])
+            .arg(&json)
+            .arg("--png")
+            .arg(d.join("png")),
+    );
+    let v = read_json(&json);
+    assert_eq!(
+        (&v["model"], &v["fsm"]),
+        (&"firmware".into(), &"firmware".into())
+    );
+    // the demo's scenes under it (every command shares the one `--model` choice)
+    succeed(
+        alvs()
+            .args(["demo", "--model", "firmware", "--png"])
+            .arg(d.join("demo")),
+    );
+    let bad = alvs()
+        .args(["arena", "--model", "firmwar"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("firmware"), "the choices are listed: {err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
 fn cli_writes_table_json_and_pictures() {
     let d = tmp("run");
     let json = d.join("arena.json");

@@ -230,13 +230,22 @@ fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
-    let random = (first, second, third, fourth, fifth).prop_map(
+    // the authors' firmware's switches: fields alive at once, its output threshold, its
+    // retirement, its correlator
+    let sixth = (
+        prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
+        prop_oneof![1 => Just(0u32), 1 => threshold()],
+        any::<bool>(),
+        prop_oneof![3 => Just(true), 1 => Just(false)],
+    );
+    let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
             (w, n, r_af, t_a, t_d, d),
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
             (band_row, floor_row, short_cols, short_row, look_change),
+            (max_fields, t_lplc2, strict_retire, opponent),
         )| Params {
             w,
             n,
@@ -268,9 +277,18 @@ fn valid_params() -> impl Strategy<Value = Params> {
             short_cols,
             short_row,
             look_change,
+            max_fields,
+            t_lplc2,
+            strict_retire,
+            opponent,
         },
     );
-    prop_oneof![1 => Just(Params::default()), 1 => Just(Params::PAPER), 3 => random]
+    prop_oneof![
+        1 => Just(Params::default()),
+        1 => Just(Params::PAPER),
+        1 => Just(Params::FIRMWARE),
+        3 => random
+    ]
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -292,7 +310,7 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     let vm = &out.vm;
     let ctx = || format!("frame {index}: {out:?}");
     prop_assert_eq!(out.frame as usize, index);
-    prop_assert!(out.afs.len() <= MAX_AFS, "{}", ctx());
+    prop_assert!(out.afs.len() <= usize::from(p.max_fields), "{}", ctx());
     if index == 0 {
         // the priming frame never alerts (its `strength` is not a sigmoid value: see the report)
         prop_assert!(
@@ -327,10 +345,15 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         );
         prop_assert!(af.age >= 1, "{}", ctx());
         // Eq. (9): zero, or the (saturating) sum of four quadrants, at least `q_arms` of them
-        // above the floor (all four with the paper's gate)
+        // above the floor (all four with the paper's gate); with `t_lplc2`, zero or a mean
+        // over frames above it
         let sum = af.quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q));
-        prop_assert!(af.lplc2 == 0 || af.lplc2 == sum, "{}", ctx());
-        if af.lplc2 > 0 {
+        if p.t_lplc2 > 0 {
+            prop_assert!(af.lplc2 == 0 || af.lplc2 > p.t_lplc2, "{}", ctx());
+        } else {
+            prop_assert!(af.lplc2 == 0 || af.lplc2 == sum, "{}", ctx());
+        }
+        if af.lplc2 > 0 && p.t_lplc2 == 0 {
             let excited = af.quadrants.iter().filter(|&&q| q > p.q_floor).count();
             prop_assert!(excited >= usize::from(p.q_arms), "{}", ctx());
         }
@@ -658,6 +681,7 @@ fn bad_value() -> impl Strategy<Value = Bad> {
         bad_u8(1, 16).prop_map(|v| Bad::U8("gain", v)),
         bad_u8(0, 24).prop_map(|v| Bad::U8("lm_shift", v)),
         bad_u8(0, 100).prop_map(|v| Bad::U8("flicker_pct", v)),
+        bad_u8(1, MAX_AFS as u8).prop_map(|v| Bad::U8("max_fields", v)),
         (2u8..=MAX_N)
             .prop_flat_map(|n| (Just(n), (MAX_REACH / n + 1)..=MAX_REACH))
             .prop_map(|(n, s)| Bad::Reach(n, s)),
@@ -688,6 +712,7 @@ impl Bad {
                     "s" => p.s = v,
                     "gain" => p.gain = v,
                     "flicker_pct" => p.flicker_pct = v,
+                    "max_fields" => p.max_fields = v,
                     _ => p.lm_shift = v,
                 }
                 name

@@ -332,6 +332,7 @@ fn tables_give_a_row_per_seed_under_the_command_that_makes_them() {
         experiments: vec![Experiment::Swarm, Experiment::Arena],
         arena_minutes: 0.05,
         swarm_minutes: 0.05,
+        firmware: false,
     };
     let text = tables(&config, 2, &|_| {}).unwrap();
     assert!(text.contains(
@@ -366,6 +367,20 @@ fn tables_give_a_row_per_seed_under_the_command_that_makes_them() {
         .map_or("–".into(), |r| format!("{:.1} %", 100.0 * r));
     let cell = format!("| 2 | {success} ({}) |", alvs.encounters);
     assert!(text.contains(&cell), "{cell}: {text}");
+    // --firmware: the authors' firmware beside the paper's model, in the arena's table only
+    let fw = TablesConfig {
+        seeds: vec![2],
+        experiments: vec![Experiment::Arena],
+        firmware: true,
+        ..config.clone()
+    };
+    let text = tables(&fw, 2, &|_| {}).unwrap();
+    assert!(text.contains("--arena-minutes 0.05 --firmware`"), "{text}");
+    assert!(
+        text.contains("| seed | ALVS | the paper's model | the authors' firmware | LGMD2 |"),
+        "{text}"
+    );
+    assert!(text.contains(&cell), "the ALVS column is unchanged: {text}");
     let bad = TablesConfig {
         seeds: Vec::new(),
         ..config

@@ -278,6 +278,10 @@ struct TablesArgs {
         allow_negative_numbers = true
     )]
     swarm_minutes: f64,
+    /// Add a column for the authors' firmware (--model firmware) to the arena's table, beside
+    /// the paper's model (one more arena run per seed).
+    #[arg(long)]
+    firmware: bool,
     /// Threads of each run (default: the available parallelism); results do not depend on it.
     #[arg(long, value_name = "J")]
     jobs: Option<usize>,
@@ -325,7 +329,8 @@ struct RobustnessArgs {
     /// Perturbation to run (repeatable). Default: all, `none` (the reference) first.
     #[arg(long = "perturbation", value_name = "NAME", value_parser = perturbation_parser())]
     perturbations: Vec<Perturbation>,
-    /// Controller to run (repeatable). Default: alvs, paper and lgmd2.
+    /// Controller to run (repeatable): alvs, paper, firmware, lgmd2. Default: alvs, paper and
+    /// lgmd2.
     #[arg(long = "controller", value_enum, value_name = "NAME")]
     controllers: Vec<SuiteArg>,
     #[command(flatten)]
@@ -394,6 +399,9 @@ enum SuiteArg {
     Alvs,
     /// ALVS with the paper's model exactly (--model paper).
     Paper,
+    /// ALVS with what the authors' public firmware runs (--model firmware); not in the default
+    /// set.
+    Firmware,
     /// The LGMD2 baseline.
     Lgmd2,
 }
@@ -403,6 +411,7 @@ impl SuiteArg {
         match self {
             SuiteArg::Alvs => SuiteController::Alvs,
             SuiteArg::Paper => SuiteController::Paper,
+            SuiteArg::Firmware => SuiteController::Firmware,
             SuiteArg::Lgmd2 => SuiteController::Lgmd2,
         }
     }
@@ -498,8 +507,9 @@ struct CommonArgs {
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
-    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
+    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// (what the authors' public firmware runs); it sets both the perception and the motion
+    /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -694,8 +704,9 @@ struct ArenaArgs {
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
-    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
+    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// (what the authors' public firmware runs); it sets both the perception and the motion
+    /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -719,8 +730,9 @@ struct ArenaArgs {
 #[derive(clap::Args)]
 struct ModelArgs {
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md) or paper (the paper's model exactly); it sets both the
-    /// perception and the motion (FSM) parameters. --param and --fsm overrides apply on top.
+    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// (what the authors' public firmware runs); it sets both the perception and the motion
+    /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
@@ -750,6 +762,9 @@ enum Model {
     Alvs,
     /// The paper's model exactly (`Params::PAPER`, `FsmParams::PAPER`).
     Paper,
+    /// What the authors' public firmware runs (`Params::FIRMWARE`, `FsmParams::FIRMWARE`;
+    /// docs/model.md, "The authors' firmware").
+    Firmware,
 }
 
 impl Model {
@@ -757,6 +772,7 @@ impl Model {
         match self {
             Model::Alvs => Params::ALVS,
             Model::Paper => Params::PAPER,
+            Model::Firmware => Params::FIRMWARE,
         }
     }
 
@@ -764,6 +780,7 @@ impl Model {
         match self {
             Model::Alvs => FsmParams::ALVS,
             Model::Paper => FsmParams::PAPER,
+            Model::Firmware => FsmParams::FIRMWARE,
         }
     }
 }
@@ -1436,6 +1453,7 @@ fn run_tables(a: TablesArgs) -> Result<()> {
         },
         arena_minutes: a.arena_minutes,
         swarm_minutes: a.swarm_minutes,
+        firmware: a.firmware,
     };
     config.validate()?;
     let jobs = jobs(a.jobs)?;

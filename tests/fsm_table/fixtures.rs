@@ -121,6 +121,22 @@ pub(crate) fn in_short_turn(h: f32) -> (Fsm, [f32; 2]) {
     (f, sp)
 }
 
+/// Stop at heading `h`: after 2 quiet frames of wandering (`FsmParams::wander_stop_frames`).
+pub(crate) fn in_stop(h: f32) -> Fsm {
+    let mut f = Fsm::new(
+        FsmParams {
+            wander_stop_frames: Some(2),
+            ..params()
+        },
+        Behaviour::Escape,
+    );
+    for _ in 0..2 {
+        assert_eq!(f.step(&quiet(), h).state, State::Wander);
+    }
+    assert_eq!(f.step(&quiet(), h).state, State::Stop);
+    f
+}
+
 pub(crate) fn swarm_wander(h: f32) -> Fsm {
     let mut f = fsm(Behaviour::Swarm);
     assert_eq!(f.step(&quiet(), h).state, State::Wander);

@@ -15,6 +15,7 @@ use alvs_tasks::{PIXELS, WIDTH};
 use proptest::prelude::*;
 
 mod blocked_way;
+mod firmware;
 mod fixtures;
 mod gamma;
 mod parameters;

@@ -49,6 +49,23 @@ fn fsm_parameters_are_set_by_name_with_checked_values() {
         msg("escape_saccade", "2"),
         "FSM parameter escape_saccade must be 0 (γ path, the paper) or 1 (saccade to θ¹)"
     );
+    assert_eq!(
+        msg("short_from_long", "2"),
+        "FSM parameter short_from_long must be 0 (short mode from every state, the paper) or 1 \
+         (only in a long takeoff)"
+    );
+    assert_eq!(
+        msg("wander_stop_frames", "never"),
+        "FSM parameter wander_stop_frames must be a whole number of frames in 0..=4294967295 \
+         or none"
+    );
+    let mut q = FsmParams::default();
+    assert_eq!(q.set("wander_stop_frames", "1000"), Ok(()));
+    assert_eq!(q.wander_stop_frames, Some(1000));
+    assert_eq!(q.set("wander_stop_frames", " none "), Ok(()));
+    assert_eq!(q.wander_stop_frames, None);
+    assert_eq!(q.set("short_from_long", "1"), Ok(()));
+    assert!(q.short_from_long);
     // every name is accepted
     for name in FsmParams::NAMES {
         assert_eq!(FsmParams::default().set(name, "1"), Ok(()), "{name}");

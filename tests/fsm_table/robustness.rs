@@ -141,6 +141,8 @@ proptest! {
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 14),
         counts in proptest::collection::vec(any::<u32>(), 12),
+        short_from_long in any::<bool>(),
+        wander_stop_frames in proptest::option::of(0u32..100),
         swarm in any::<bool>(),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
@@ -172,6 +174,8 @@ proptest! {
             takeoff_yaw_deg_s: vals[6],
             look_every: counts[10],
             look_scans: counts[11],
+            short_from_long,
+            wander_stop_frames,
         };
         let mut f = Fsm::new(p, if swarm { Behaviour::Swarm } else { Behaviour::Escape });
         for (vm, h) in frames {

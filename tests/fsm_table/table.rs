@@ -262,7 +262,25 @@ fn transition_table_covers_every_state() {
         None,
     ));
 
-    let mut seen = [false; 6];
+    rows.push(("stop, none", in_stop(H), quiet(), H, State::Stop, None));
+    rows.push((
+        "stop, alert",
+        in_stop(H),
+        long(LEFT_X),
+        H,
+        State::LongTakeoff,
+        None,
+    ));
+    rows.push((
+        "stop, short (the paper's override of every state)",
+        in_stop(H),
+        short(LEFT_X),
+        H,
+        State::ShortTakeoff,
+        retreat,
+    ));
+
+    let mut seen = [false; 7];
     for (what, mut f, vm, h, next, phase) in rows {
         seen[f.state() as usize] = true;
         let c = f.step(&vm, h);

@@ -16,6 +16,7 @@
 use alvs_tasks::{Network, Params, Perception, HEIGHT, PIXELS, WIDTH};
 
 mod approach;
+mod firmware;
 mod harness;
 mod limitations;
 mod non_looming;

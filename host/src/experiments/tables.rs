@@ -4,7 +4,8 @@
 //! regenerate when the world changes. Every row is the experiment's own run with its defaults
 //! in that world and that seed (`cargo alvs <experiment> --world W --seed S`, and for the
 //! arena's paper row `--model paper --controller alvs`); nothing is computed that the
-//! experiment's report does not hold.
+//! experiment's report does not hold. `--firmware` adds the authors' firmware (`--model
+//! firmware`) to the arena's table, beside the paper's model.
 
 use std::fmt::Write;
 
@@ -68,6 +69,9 @@ pub struct TablesConfig {
     pub arena_minutes: f64,
     /// Simulated minutes of a swarm trial (its default 5).
     pub swarm_minutes: f64,
+    /// The arena's table also has a column for the authors' firmware (ALVS with `--model
+    /// firmware`).
+    pub firmware: bool,
 }
 
 impl Default for TablesConfig {
@@ -79,6 +83,7 @@ impl Default for TablesConfig {
             experiments: Experiment::ALL.to_vec(),
             arena_minutes: ArenaConfig::default().minutes,
             swarm_minutes: SwarmConfig::default().minutes,
+            firmware: false,
         }
     }
 }
@@ -104,6 +109,9 @@ impl TablesConfig {
         }
         if has(Experiment::Swarm) && self.swarm_minutes != d.swarm_minutes {
             let _ = write!(c, " --swarm-minutes {}", self.swarm_minutes);
+        }
+        if has(Experiment::Arena) && self.firmware {
+            c.push_str(" --firmware");
         }
         c
     }
@@ -331,30 +339,29 @@ fn two_threats_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> 
 }
 
 fn arena_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Result<String> {
+    use alvs_tasks::model::fsm::FsmParams;
+    use alvs_tasks::Params;
     let base = ArenaConfig {
         world: c.world,
         minutes: c.arena_minutes,
         ..ArenaConfig::default()
     };
-    // ALVS, the paper's model (ALVS with --model paper), LGMD2: trials per seed
-    let mut per: [Vec<Trial>; 3] = Default::default();
+    // ALVS, the paper's model (ALVS with --model paper), the authors' firmware (ALVS with
+    // --model firmware, with --firmware), LGMD2: their trials over the seeds
+    let mut models = vec![(Params::PAPER, FsmParams::PAPER)];
+    let mut heads = vec!["ALVS", "the paper's model"];
+    if c.firmware {
+        models.push((Params::FIRMWARE, FsmParams::FIRMWARE));
+        heads.push("the authors' firmware");
+    }
+    heads.push("LGMD2");
+    let mut per: Vec<Vec<Trial>> = vec![Vec::new(); heads.len()];
     let mut rows = String::new();
     for &seed in &c.seeds {
         progress(&format!("arena, seed {seed}"));
         let r = arena::run(
             &ArenaConfig {
                 seed,
-                ..base.clone()
-            },
-            jobs,
-            &|_| {},
-        )?;
-        let paper = arena::run(
-            &ArenaConfig {
-                seed,
-                controllers: vec![Kind::Alvs],
-                params: alvs_tasks::Params::PAPER,
-                fsm: alvs_tasks::model::fsm::FsmParams::PAPER,
                 ..base.clone()
             },
             jobs,
@@ -367,11 +374,22 @@ fn arena_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Result
                 .cloned()
                 .collect()
         };
-        let seed_trials = [
-            by(&r.trials, Kind::Alvs),
-            by(&paper.trials, Kind::Alvs),
-            by(&r.trials, Kind::Lgmd2),
-        ];
+        let mut seed_trials = vec![by(&r.trials, Kind::Alvs)];
+        for &(params, fsm) in &models {
+            let m = arena::run(
+                &ArenaConfig {
+                    seed,
+                    controllers: vec![Kind::Alvs],
+                    params,
+                    fsm,
+                    ..base.clone()
+                },
+                jobs,
+                &|_| {},
+            )?;
+            seed_trials.push(by(&m.trials, Kind::Alvs));
+        }
+        seed_trials.push(by(&r.trials, Kind::Lgmd2));
         let _ = write!(rows, "| {seed} |");
         for (k, trials) in seed_trials.into_iter().enumerate() {
             let s = arena::summarise("", &trials.iter().collect::<Vec<_>>());
@@ -400,36 +418,37 @@ fn arena_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Result
     );
     let _ = writeln!(
         t,
-        "| seed | ALVS | the paper's model | LGMD2 |\n|---|---:|---:|---:|"
+        "| seed | {} |\n|---|{}",
+        heads.join(" | "),
+        "---:|".repeat(heads.len())
     );
     t.push_str(&rows);
+    let cells = |f: &dyn Fn(&arena::ControllerSummary) -> String| -> String {
+        pooled.iter().map(f).collect::<Vec<_>>().join(" | ")
+    };
     let _ = writeln!(
         t,
-        "| **pooled** | **{}** ({}) | **{}** ({}) | **{}** ({}) |",
-        pct(pooled[0].success_rate),
-        pooled[0].encounters,
-        pct(pooled[1].success_rate),
-        pooled[1].encounters,
-        pct(pooled[2].success_rate),
-        pooled[2].encounters
+        "| **pooled** | {} |",
+        cells(&|p| format!("**{}** ({})", pct(p.success_rate), p.encounters))
     );
     let _ = writeln!(
         t,
-        "| at a wall, speed | {:.1} %, {:.0} mm/s | {:.1} %, {:.0} mm/s | {:.1} %, {:.0} mm/s |",
-        100.0 * pooled[0].wall_contact_fraction,
-        pooled[0].mean_speed_mm_s,
-        100.0 * pooled[1].wall_contact_fraction,
-        pooled[1].mean_speed_mm_s,
-        100.0 * pooled[2].wall_contact_fraction,
-        pooled[2].mean_speed_mm_s
+        "| at a wall, speed | {} |",
+        cells(&|p| format!(
+            "{:.1} %, {:.0} mm/s",
+            100.0 * p.wall_contact_fraction,
+            p.mean_speed_mm_s
+        ))
     );
+    // LGMD2 (the last column) has no short takeoff
+    let alvs = &pooled[..pooled.len() - 1];
     let _ = writeln!(
         t,
-        "| short takeoffs (near a threat) | {} ({}) | {} ({}) | – |",
-        pooled[0].short_takeoffs,
-        pooled[0].short_takeoffs_in_encounter,
-        pooled[1].short_takeoffs,
-        pooled[1].short_takeoffs_in_encounter
+        "| short takeoffs (near a threat) | {} | – |",
+        alvs.iter()
+            .map(|p| format!("{} ({})", p.short_takeoffs, p.short_takeoffs_in_encounter))
+            .collect::<Vec<_>>()
+            .join(" | ")
     );
     Ok(t)
 }

@@ -23,6 +23,7 @@ pub fn state_colour(s: State) -> Rgb {
         State::ShortTakeoff => [225, 180, 240],
         State::Spin => [170, 215, 245],
         State::Look => [215, 215, 215],
+        State::Stop => [240, 240, 190],
     }
 }
 

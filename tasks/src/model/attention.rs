@@ -13,10 +13,12 @@
 //!   standing, so one field always remains.
 //! * Eq. (10), retirement: a field whose mean LPLC2 over its last `d` frames is below `T_d` is
 //!   retired — once it has lived `d` frames (a newborn field has no history yet) — but the
-//!   strongest field always remains once one exists.
+//!   strongest field always remains once one exists. `Params::strict_retire` judges as the
+//!   authors' firmware does ([`Fields::retire_strict`]): from the first frame, none kept.
 //!
-//! Capacity: [`MAX_AFS`]. When full, no new field is created until one retires; with Table I's
-//! `R_AF` the geometry never lets more than 3 x 2 fields coexist, so this does not happen.
+//! Capacity: [`MAX_AFS`], or fewer (`Params::max_fields`; the authors' firmware has one). When
+//! full, no new field is created until one retires; with Table I's `R_AF` the geometry never
+//! lets more than 3 x 2 fields coexist, so [`MAX_AFS`] is not reached.
 
 use crate::frame::{HEIGHT, WIDTH};
 use crate::model::dsp;
@@ -119,6 +121,18 @@ impl Field {
         self.history[usize::from(self.head)]
     }
 
+    /// Mean LPLC2 over the last `d` frames with the frames before this field's birth counting
+    /// 0 (`Params::t_lplc2`, `Params::strict_retire`: the authors' firmware's ring of outputs).
+    pub fn window_mean(&self, d: u8) -> u32 {
+        let k = u32::from(d.clamp(1, MAX_D));
+        let mut sum = 0u64;
+        for i in 0..k {
+            let slot = (u32::from(self.head) + u32::from(MAX_D) - i) % u32::from(MAX_D);
+            sum += u64::from(self.history[slot as usize]);
+        }
+        (sum / u64::from(k)) as u32
+    }
+
     /// Mean LPLC2 over the last `d` frames (Eq. 10), over fewer while younger than `d`.
     pub fn mean_response(&self, d: u8) -> u32 {
         let k = u32::from(d.min(MAX_D)).min(self.age).max(1);
@@ -219,7 +233,8 @@ impl Fields {
 
     /// [`Fields::spawn`] with the threshold `t_a` in place of `p.t_a` ([`spawn_threshold`]).
     pub fn spawn_above(&mut self, m: &Maps, w: &Weights, p: &Params, t_a: u32) -> Option<u32> {
-        if self.list.is_full() {
+        // `Params::max_fields`: no new field while that many live
+        if self.list.is_full() || self.list.len() >= usize::from(p.max_fields) {
             return None;
         }
         let r = usize::from(p.r_af);
@@ -481,6 +496,13 @@ impl Fields {
             .retain(|f| f.id == keep || f.age < u32::from(d) || f.mean_response(d) >= t_d);
     }
 
+    /// Eq. (10) as the authors' firmware runs it (`Params::strict_retire`): retires every
+    /// field whose [`Field::window_mean`] over `d` frames is below `T_d`, from its first frame
+    /// on, the last one too.
+    pub fn retire_strict(&mut self, d: u8, t_d: u32) {
+        self.list.retain(|f| f.window_mean(d) >= t_d);
+    }
+
     /// Adds a field directly (tests and replays of recorded states).
     pub fn insert(&mut self, x: u8, y: u8) -> Option<u32> {
         let id = self.next_id;
@@ -647,6 +669,53 @@ mod tests {
             f.retire(4, 5000);
         }
         assert_eq!(f.len(), 1);
+    }
+
+    #[test]
+    fn the_firmwares_retirement_judges_from_the_first_frame_and_keeps_none() {
+        // `Params::strict_retire`: the mean over d frames counts the frames before the
+        // field's birth as 0
+        let mut f = Fields::default();
+        f.insert(10, 10);
+        f.insert(90, 60);
+        for (k, g) in f.iter_mut().enumerate() {
+            g.push_response(if k == 0 { 60_000 } else { 40_000 });
+        }
+        let g = f.iter().next().unwrap();
+        assert_eq!((g.window_mean(4), g.mean_response(4)), (15_000, 60_000));
+        // the second (10,000 < 12,500) goes at once; Eq. (10) would have waited d frames
+        let mut paper = f.clone();
+        paper.retire(4, 12_500);
+        assert_eq!(paper.len(), 2);
+        f.retire_strict(4, 12_500);
+        assert_eq!(f.iter().map(|g| g.x).collect::<heapless::Vec<_, 6>>(), [10]);
+        // and the last one goes too, once its response has left the window
+        for frame in 0..4 {
+            f.iter_mut().next().unwrap().push_response(0);
+            f.retire_strict(4, 12_500);
+            assert_eq!(f.len(), if frame < 3 { 1 } else { 0 }, "frame {frame}");
+        }
+    }
+
+    #[test]
+    fn no_field_opens_beyond_max_fields() {
+        // two salient spots far apart: Eq. (3) opens one field a frame, up to `max_fields`
+        let mut off = [0u8; PIXELS];
+        off[10 * WIDTH + 10] = 200;
+        off[60 * WIDTH + 90] = 150;
+        let cells = cm(&[0u8; PIXELS], &off);
+        let m = Maps::new(&cells);
+        for (max, want) in [(1u8, 1usize), (2, 2), (6, 2)] {
+            let p = Params {
+                max_fields: max,
+                ..p()
+            };
+            let mut f = Fields::default();
+            for _ in 0..3 {
+                f.spawn(&m, &Weights::new(&p), &p);
+            }
+            assert_eq!(f.len(), want, "max_fields {max}");
+        }
     }
 
     #[test]

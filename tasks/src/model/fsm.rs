@@ -19,6 +19,11 @@
 //! | Escape (≥ min. duration) | `quiet` frames without alert | Wander |
 //! | ShortTakeoff / Retreat | aligned with `sp¹` | ShortTakeoff / Turn |
 //! | ShortTakeoff / Turn | aligned with `sp²` (or timeout) | Escape holding `sp²` |
+//! | Wander (`wander_stop_frames`) | that many frames without alert | Stop (stands) |
+//! | Stop | alert | LongTakeoff |
+//!
+//! With `FsmParams::short_from_long` (the authors' firmware) the short mode starts the γ path
+//! only in a LongTakeoff: an alert in Wander or Stop starts a long takeoff first.
 //!
 //! Swarm behaviour (Sec. IV-D): Wander → Spin on alert or short mode (and, with the floor
 //! line, on an obstacle close ahead); Spin → Wander once `spin_frames` frames have passed
@@ -61,17 +66,21 @@ pub enum State {
     /// Swarm variant: standing still to look for moving objects, or turning in place to the
     /// next direction to look in (`FsmParams::look_every`).
     Look,
+    /// Standing still after `FsmParams::wander_stop_frames` frames of wandering without a
+    /// threat, until one comes (the authors' firmware).
+    Stop,
 }
 
 impl State {
     /// Every state, in declaration order.
-    pub const ALL: [State; 6] = [
+    pub const ALL: [State; 7] = [
         State::Wander,
         State::LongTakeoff,
         State::Escape,
         State::ShortTakeoff,
         State::Spin,
         State::Look,
+        State::Stop,
     ];
 
     /// Lower-case name used in JSON and telemetry.
@@ -83,6 +92,7 @@ impl State {
             State::ShortTakeoff => "short_takeoff",
             State::Spin => "spin",
             State::Look => "look",
+            State::Stop => "stop",
         }
     }
 
@@ -238,6 +248,16 @@ pub struct FsmParams {
     /// Swarm: further looks, each 90° on, after a look that saw nothing; at most
     /// [`MAX_LOOK_SCANS`] (a full circle).
     pub look_scans: u32,
+    /// The short mode starts the γ path only in a long takeoff (the authors' firmware: an
+    /// alert in Wander or Stop starts a long takeoff, and a threat above `T_s` during it a
+    /// short one). `false` (the paper): "the current state is overridden by the short takeoff
+    /// state" (Sec. II-B), whatever it is. The escape saccade (`escape_saccade`) is not
+    /// affected.
+    pub short_from_long: bool,
+    /// After this many frames of wandering without an alert the robot stops ([`State::Stop`])
+    /// and stands until a threat comes (the authors' firmware: 1000 frames, 33 s). `None`
+    /// (the paper): it wanders on.
+    pub wander_stop_frames: Option<u32>,
 }
 
 impl Default for FsmParams {
@@ -279,12 +299,15 @@ impl FsmParams {
         takeoff_yaw_deg_s: 360.0,
         look_every: 0,
         look_scans: 3,
+        short_from_long: false,
+        wander_stop_frames: None,
     };
 
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
     /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
     /// mechanisms"): the escape saccade, a takeoff that moves at half the escape speed while
-    /// it turns, saccades three times as brisk as other turns, and the swarm's looks.
+    /// it turns, takeoff turns three times as brisk and limited by the wheels only, and the
+    /// swarm's looks.
     pub const ALVS: FsmParams = FsmParams {
         escape_saccade: 1,
         takeoff_drive: 0.5,
@@ -294,19 +317,46 @@ impl FsmParams {
         ..FsmParams::PAPER
     };
 
-    /// The preset these parameters are, `"alvs"` or `"paper"`, or `"custom"`.
+    /// What the authors' public firmware's state machine does (`visuomotor_LPLC2.c`;
+    /// `docs/notes/2026-11-27-authors-firmware.md` gives each value's source line):
+    /// [`FsmParams::PAPER`] acting on three alert frames in a row (its spike count), the γ
+    /// path only out of a long takeoff, the stop after 1000 frames of wandering, an escape of
+    /// one frame after a long takeoff, no takeoff timeout and no saccadic suppression, its
+    /// escape and reverse speed (4.5 of its units where wandering is 2.5: 180 mm/s) and its
+    /// heading PID's gain and limit in the same units.
+    pub const FIRMWARE: FsmParams = FsmParams {
+        max_escape_mm_s: 180.0,
+        retreat_mm_s: 180.0,
+        max_wheel_mm_s: 180.0,
+        heading_gain: 6.2,
+        max_yaw_deg_s: 239.0,
+        // its takeoffs turn with the same PID
+        takeoff_yaw_deg_s: 239.0,
+        min_escape_frames: 0,
+        quiet_frames: 0,
+        takeoff_timeout_frames: u32::MAX,
+        saccade_yaw_deg_s: f32::INFINITY,
+        alert_frames: 3,
+        short_from_long: true,
+        wander_stop_frames: Some(1000),
+        ..FsmParams::PAPER
+    };
+
+    /// The preset these parameters are, `"alvs"`, `"paper"` or `"firmware"`, or `"custom"`.
     pub fn preset_name(&self) -> &'static str {
         if *self == FsmParams::ALVS {
             "alvs"
         } else if *self == FsmParams::PAPER {
             "paper"
+        } else if *self == FsmParams::FIRMWARE {
+            "firmware"
         } else {
             "custom"
         }
     }
 
     /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 27] = [
+    pub const NAMES: [&'static str; 29] = [
         "cruise_mm_s",
         "max_escape_mm_s",
         "retreat_mm_s",
@@ -334,13 +384,15 @@ impl FsmParams {
         "takeoff_yaw_deg_s",
         "look_every",
         "look_scans",
+        "short_from_long",
+        "wander_stop_frames",
     ];
 
     /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
     /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
-    /// `takeoff_yaw_deg_s` too: the wheels' limit);
-    /// counts are whole frames; `live_strength` is 0, 1 or 2 and `escape_saccade` 0 or 1. A
-    /// refused value leaves the parameters unchanged.
+    /// `takeoff_yaw_deg_s` too: the wheels' limit); counts are whole frames; `live_strength`
+    /// is 0, 1 or 2, `escape_saccade` and `short_from_long` 0 or 1; `wander_stop_frames` a
+    /// count or `none`. A refused value leaves the parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
         let v = value.trim();
         let name: &'static str = FsmParams::NAMES
@@ -393,6 +445,10 @@ impl FsmParams {
             "takeoff_yaw_deg_s" => p.takeoff_yaw_deg_s = real(true)?,
             "look_every" => p.look_every = count()?,
             "look_scans" => p.look_scans = count()?,
+            "short_from_long" => p.short_from_long = mode(1)? != 0,
+            "wander_stop_frames" => {
+                p.wander_stop_frames = if v == "none" { None } else { Some(count()?) }
+            }
             _ => p.takeoff_drive = real(false)?,
         }
         Ok(())
@@ -405,7 +461,8 @@ pub enum FsmParamError {
     /// No FSM parameter has that name (see [`FsmParams::NAMES`]).
     Unknown,
     /// Not a non-negative number (reals), a whole number of frames (counts), or one of the
-    /// listed modes (`live_strength` 0–2, `escape_saccade` 0–1).
+    /// listed modes (`live_strength` 0–2, `escape_saccade` and `short_from_long` 0–1;
+    /// `wander_stop_frames` also `none`).
     Invalid {
         /// Parameter name.
         name: &'static str,
@@ -426,6 +483,11 @@ impl core::fmt::Display for FsmParamError {
                 f.write_str(")")
             }
             // the counts are the `*_frames` parameters; `saccade_yaw_deg_s` may be `inf`
+            FsmParamError::Invalid { name } if *name == "wander_stop_frames" => write!(
+                f,
+                "FSM parameter {name} must be a whole number of frames in 0..={} or none",
+                u32::MAX
+            ),
             FsmParamError::Invalid { name } if name.ends_with("_frames") => write!(
                 f,
                 "FSM parameter {name} must be a whole number of frames in 0..={}",
@@ -438,6 +500,11 @@ impl core::fmt::Display for FsmParamError {
             FsmParamError::Invalid { name } if *name == "live_strength" => write!(
                 f,
                 "FSM parameter {name} must be 0 (latched), 1 (escape) or 2 (escape and γ path)"
+            ),
+            FsmParamError::Invalid { name } if *name == "short_from_long" => write!(
+                f,
+                "FSM parameter {name} must be 0 (short mode from every state, the paper) or 1 \
+                 (only in a long takeoff)"
             ),
             FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
                 f,
@@ -725,6 +792,14 @@ impl Fsm {
         self.quiet = 0;
     }
 
+    fn enter_stop(&mut self, h: f32) {
+        self.state = State::Stop;
+        self.short_phase = None;
+        self.setpoint = h;
+        self.frames = 0;
+        self.quiet = 0;
+    }
+
     fn enter_long(&mut self, vm: &Visuomotor, h: f32) {
         // An alert without a bearing (not produced by `Visuomotor::from_fields`) is taken as a
         // threat dead ahead: turn around.
@@ -771,7 +846,9 @@ impl Fsm {
         // Short mode overrides every state (Sec. II-B) but does not re-latch an ongoing γ path:
         // θ_short is relative to the heading, so re-latching each frame while the robot turns
         // would move the set-points with it and the path would never end.
-        if vm.short_mode && self.state != State::ShortTakeoff {
+        // `FsmParams::short_from_long`: only a long takeoff turns into a short one
+        let may_short = !self.params.short_from_long || self.state == State::LongTakeoff;
+        if vm.short_mode && self.state != State::ShortTakeoff && may_short {
             if let Some([t1, t2]) = vm.theta_short {
                 self.state = State::ShortTakeoff;
                 self.short_phase = Some(ShortPhase::Retreat);
@@ -788,11 +865,17 @@ impl Fsm {
         match self.state {
             // Spin and Look belong to the swarm behaviour; should one be current here, act as
             // Wander.
-            State::Wander | State::Spin | State::Look => {
+            State::Wander | State::Spin | State::Look | State::Stop => {
                 if vm.alert {
                     self.enter_long(vm, h);
                 } else if matches!(self.state, State::Spin | State::Look) {
                     self.enter_wander(h);
+                } else if self.state == State::Wander {
+                    // `FsmParams::wander_stop_frames`: a long quiet wander ends standing
+                    self.frames = self.frames.saturating_add(1);
+                    if p.wander_stop_frames.is_some_and(|n| self.frames > n) {
+                        self.enter_stop(h);
+                    }
                 }
             }
             State::LongTakeoff => {
@@ -940,6 +1023,7 @@ impl Fsm {
                 (0.0, 0.0)
             }
             State::Look => (0.0, self.steer(self.setpoint, h)),
+            State::Stop => (0.0, 0.0),
         };
         let yaw = omega.to_degrees().abs();
         self.last_yaw_deg_s = if yaw.is_finite() { yaw } else { 0.0 };
@@ -1084,6 +1168,62 @@ mod tests {
                 p.retreat_frames
             ),
             (0, 0, 0.0, u32::MAX)
+        );
+    }
+
+    #[test]
+    fn the_firmware_is_the_papers_motion_with_the_documented_values_only() {
+        let (p, fw) = (FsmParams::PAPER, FsmParams::FIRMWARE);
+        // docs/notes/2026-11-27-authors-firmware.md: each value and its source line
+        assert_eq!(
+            (fw.max_escape_mm_s, fw.retreat_mm_s, fw.max_wheel_mm_s),
+            (180.0, 180.0, 180.0)
+        );
+        assert_eq!(
+            (fw.heading_gain, fw.max_yaw_deg_s, fw.takeoff_yaw_deg_s),
+            (6.2, 239.0, 239.0)
+        );
+        assert_eq!((fw.min_escape_frames, fw.quiet_frames), (0, 0));
+        assert_eq!(fw.takeoff_timeout_frames, u32::MAX);
+        assert_eq!(fw.saccade_yaw_deg_s, f32::INFINITY);
+        assert_eq!(fw.alert_frames, 3);
+        assert!(fw.short_from_long);
+        assert_eq!(fw.wander_stop_frames, Some(1000));
+        assert_eq!((p.short_from_long, p.wander_stop_frames), (false, None));
+        assert_eq!(
+            (
+                FsmParams::ALVS.short_from_long,
+                FsmParams::ALVS.wander_stop_frames
+            ),
+            (false, None)
+        );
+        assert_eq!(
+            FsmParams {
+                max_escape_mm_s: p.max_escape_mm_s,
+                retreat_mm_s: p.retreat_mm_s,
+                max_wheel_mm_s: p.max_wheel_mm_s,
+                heading_gain: p.heading_gain,
+                max_yaw_deg_s: p.max_yaw_deg_s,
+                takeoff_yaw_deg_s: p.takeoff_yaw_deg_s,
+                min_escape_frames: p.min_escape_frames,
+                quiet_frames: p.quiet_frames,
+                takeoff_timeout_frames: p.takeoff_timeout_frames,
+                saccade_yaw_deg_s: p.saccade_yaw_deg_s,
+                alert_frames: p.alert_frames,
+                short_from_long: p.short_from_long,
+                wander_stop_frames: p.wander_stop_frames,
+                ..fw
+            },
+            p
+        );
+        assert_eq!(fw.preset_name(), "firmware");
+        assert_eq!(
+            FsmParams {
+                alert_frames: 1,
+                ..fw
+            }
+            .preset_name(),
+            "custom"
         );
     }
 

@@ -165,6 +165,9 @@ pub struct LmScale {
     pub n: usize,
     /// Spacing `s` in pixels.
     pub s: usize,
+    /// Eq. (6)'s opponent subtraction (`Params::opponent`); without it only the
+    /// preferred-direction products `L(q,t)·L(p,t−C_d)` are summed.
+    pub opponent: bool,
 }
 
 impl LmScale {
@@ -177,6 +180,7 @@ impl LmScale {
             shift: 16 + p.lm_shift as u32,
             n: p.n as usize,
             s: p.s as usize,
+            opponent: p.opponent,
         }
     }
 }
@@ -213,7 +217,9 @@ pub fn correlate(
 /// Eq. (7), rectified: `max(0, T4 + T5)` at `(x, y)` along `dir`, in model units.
 ///
 /// Both channels in one loop over the neurons that lie on the retina (the same sums as
-/// [`correlate`], which stays the plain reference).
+/// [`correlate`], which stays the plain reference). Without `sc.opponent` (the authors'
+/// firmware) the subtracted products are left out: `T = Σ_c L(q,t)·L(p,t−C_d)`, which a change
+/// that does not move excites too.
 #[inline]
 pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) -> u32 {
     let s = sc.s.max(1);
@@ -228,13 +234,19 @@ pub fn local_motion(m: &Maps, sc: &LmScale, x: usize, y: usize, dir: Direction) 
     let p = y * WIDTH + x;
     let (on_p, on_dp) = (i32::from(m.on(p)), i32::from(m.on_d(p)));
     let (off_p, off_dp) = (i32::from(m.off(p)), i32::from(m.off_d(p)));
-    let (mut t4, mut t5) = (0i32, 0i32);
+    // preferred-direction and subtracted (null) products, per channel
+    let (mut t4, mut t5, mut n4, mut n5) = (0i32, 0i32, 0i32, 0i32);
     let mut q = p as isize;
     for _ in 0..count {
         q += step;
         let qi = q as usize; // on the retina: count ≤ room / s
-        t4 += i32::from(m.on(qi)) * on_dp - i32::from(m.on_d(qi)) * on_p;
-        t5 += i32::from(m.off(qi)) * off_dp - i32::from(m.off_d(qi)) * off_p;
+        t4 += i32::from(m.on(qi)) * on_dp;
+        n4 += i32::from(m.on_d(qi)) * on_p;
+        t5 += i32::from(m.off(qi)) * off_dp;
+        n5 += i32::from(m.off_d(qi)) * off_p;
+    }
+    if sc.opponent {
+        (t4, t5) = (t4 - n4, t5 - n5);
     }
     let lm = (sc.t4_q16 * i64::from(t4) + sc.t5_q16 * i64::from(t5)) >> sc.shift;
     lm.clamp(0, i64::from(u32::MAX)) as u32
@@ -373,6 +385,30 @@ mod tests {
             local_motion(&m, &sc, 40, 33, Direction::Right),
             (16 * 100 * 100) >> p.lm_shift
         );
+    }
+
+    #[test]
+    fn without_the_opponent_term_a_change_that_does_not_move_excites_too() {
+        // the same two OFF pixels dark in both frames: no motion, the opponent terms cancel
+        let mut still = [0u8; PIXELS];
+        still[33 * WIDTH + 40] = 50;
+        still[33 * WIDTH + 41] = 50;
+        let zero = [0u8; PIXELS];
+        let cells = cells_of([&zero, &still, &zero, &still]);
+        let m = Maps::new(&cells);
+        let paper = LmScale::new(&Params::PAPER);
+        assert_eq!(local_motion(&m, &paper, 40, 33, Direction::Right), 0);
+        // the authors' firmware sums the preferred product alone: gain² · 50 · 50 >> lm_shift
+        let half = LmScale {
+            opponent: false,
+            ..paper
+        };
+        assert_eq!(
+            local_motion(&m, &half, 40, 33, Direction::Right),
+            (16 * 50 * 50) >> 8
+        );
+        // both forms agree on what moves the other way: nothing preferred, nothing summed
+        assert_eq!(local_motion(&m, &half, 41, 33, Direction::Right), 0);
     }
 
     #[test]

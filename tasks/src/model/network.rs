@@ -49,7 +49,8 @@ pub struct AfReport {
     pub age: u32,
     /// `Q1..Q4`, Eq. (8).
     pub quadrants: [u32; 4],
-    /// `LPLC2_k(t)`, Eq. (9).
+    /// `LPLC2_k(t)`, Eq. (9); with `Params::t_lplc2`, the field's output: its mean over `d`
+    /// frames while above that threshold, else 0.
     pub lplc2: u32,
 }
 
@@ -337,7 +338,9 @@ impl Network {
         mark(Stage::Motion);
         // `Params::q_grow_pct`: a partial opening needs a growing drive at the same place
         let gate = lplc2::Gate::of(&p);
-        for (f, l) in self.fields.iter_mut().zip(lplc.iter_mut()) {
+        // fields silenced on this frame (`Params::t_lplc2` passes on 0 for them)
+        let mut muted = [false; MAX_AFS];
+        for ((f, l), muted) in self.fields.iter_mut().zip(lplc.iter_mut()).zip(&mut muted) {
             let last = (f.shift_since_drive() <= lplc2::GROW_SHIFT_PX).then_some(f.drive);
             if !lplc2::partial_opening_grows(l.quadrants, &gate, last, p.q_grow_pct) {
                 l.response = 0;
@@ -347,6 +350,7 @@ impl Network {
             // `Params::band_row`: driving, the scene above the body's height is its own flow
             if self.driving && f.y < p.band_row {
                 l.response = 0;
+                *muted = true;
             }
         }
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
@@ -359,7 +363,7 @@ impl Network {
             }
         }
         // (id, result) of every field alive during this frame, before Eq. (10) retires some
-        let results: heapless::Vec<(u32, Lplc2), MAX_AFS> = self
+        let mut results: heapless::Vec<(u32, Lplc2), MAX_AFS> = self
             .fields
             .iter()
             .zip(lplc.iter())
@@ -368,7 +372,22 @@ impl Network {
         for (f, l) in self.fields.iter_mut().zip(lplc.iter()) {
             f.push_response(l.response);
         }
-        self.fields.retire(p.d, p.t_d);
+        if p.t_lplc2 > 0 {
+            // `Params::t_lplc2`: a field passes on its mean over `d` frames while above it
+            for ((f, (_, l)), muted) in self.fields.iter().zip(results.iter_mut()).zip(muted) {
+                let mean = f.window_mean(p.d);
+                l.response = if mean > p.t_lplc2 && !muted && !silent {
+                    mean
+                } else {
+                    0
+                };
+            }
+        }
+        if p.strict_retire {
+            self.fields.retire_strict(p.d, p.t_d);
+        } else {
+            self.fields.retire(p.d, p.t_d);
+        }
 
         let mut afs: heapless::Vec<AfReport, MAX_AFS> = heapless::Vec::new();
         for f in self.fields.iter() {

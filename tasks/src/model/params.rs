@@ -2,6 +2,7 @@
 //! and the values the paper leaves unstated, each a documented choice (`docs/model.md`).
 
 use crate::frame::HEIGHT;
+use crate::model::network::MAX_AFS;
 
 /// Largest number of connected neurons `n` per correlator (Eq. 6).
 pub const MAX_N: u8 = 4;
@@ -13,7 +14,8 @@ pub const MAX_D: u8 = 16;
 /// The parameters of the aLPLC2 network and visuomotor pathway.
 ///
 /// [`Params::PAPER`] is the paper's Table I plus the choices documented in `docs/model.md`;
-/// `Params::default()` is [`Params::ALVS`], that plus the closed-loop mechanisms.
+/// `Params::default()` is [`Params::ALVS`], that plus the closed-loop mechanisms;
+/// [`Params::FIRMWARE`] is what the authors' public firmware runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Params {
     /// `w`: weight of the ON channel, Eq. (1). Table I: 0.25.
@@ -149,6 +151,31 @@ pub struct Params {
     /// 15 took noise for movers (`docs/experiments.md`, "Swarm"). Only the swarm behaviour acts
     /// on it (`FsmParams::look_every`); the escape and the firmware never look.
     pub look_change: u8,
+    /// The most attention fields alive at once, 1..=[`MAX_AFS`]: with that many, no new field
+    /// opens (Eq. 3) until one retires. The paper's fields are as many as fit ([`MAX_AFS`]);
+    /// the authors' firmware has one (`NUM_AF 1`, [`Params::FIRMWARE`]).
+    pub max_fields: u8,
+    /// A field's output over time, the authors' firmware's `T_LPLC2`. 0 (the paper): a field
+    /// is stimulated on a frame when its gate opens (Eq. 9, `LPLC2_k > 0`) and passes on that
+    /// frame's response. Above 0: it passes on the mean of its last `d` responses (the frames
+    /// before its birth counting 0, as the firmware's ring of 4 outputs), and only while that
+    /// mean exceeds this value; a frame on which the field is silenced (`warmup`,
+    /// `flicker_pct`, `band_row`) passes on 0. `ΣLPLC2`, `X̄`, `S` and the short mode are
+    /// made of these outputs. See `docs/model.md`, "The authors' firmware".
+    pub t_lplc2: u32,
+    /// Eq. (10) as the authors' firmware runs it: every field is judged from its first frame,
+    /// on the mean of its last `d` responses with the frames before its birth counting 0, and
+    /// the last field retires too (a new one may open on the next frame). `false` (the paper):
+    /// a field is not judged before it has lived `d` frames, and the strongest always remains
+    /// ("at least one AF is always retained").
+    pub strict_retire: bool,
+    /// Eq. (6)'s correlator form. `true` (the paper): the opponent HRC the paper cites, a
+    /// change travelling along the preferred direction minus one travelling against it.
+    /// `false` (the authors' firmware, whose subtracted terms are commented out): only the
+    /// preferred-direction product `L(q,t)·L(p,t−C_d)`, which a change that does not move
+    /// (flicker, a translating edge's own pixels) excites too. Taken by the general
+    /// pixel-by-pixel path (the row kernel is opponent only).
+    pub opponent: bool,
 }
 
 impl Params {
@@ -184,6 +211,10 @@ impl Params {
         short_cols: 0,
         short_row: 0,
         look_change: 0,
+        max_fields: MAX_AFS as u8,
+        t_lplc2: 0,
+        strict_retire: false,
+        opponent: true,
     };
 
     /// The default: the paper's model ([`Params::PAPER`]) plus the mechanisms a robot in
@@ -207,28 +238,68 @@ impl Params {
         ..Params::PAPER
     };
 
-    /// The preset these parameters are, `"paper"` or `"alvs"`, or `"custom"`.
+    /// What the authors' public firmware runs (`Ryannnice/neuro-life-project`,
+    /// `micro_embodied/colias_core`; `docs/notes/2026-11-27-authors-firmware.md` gives each
+    /// value's source line): [`Params::PAPER`] with one attention field, OFF only, a one-frame
+    /// delay, two connected neurons, its quadrant threshold `T_cardinal` and 3-of-4 gate
+    /// without balance, its output the 4-frame mean above `T_LPLC2`, its retirement, strength
+    /// weight and short-mode threshold, and its correlator (OFF only, not opponent). Its
+    /// correlator products have our units (`ΔY²/16`), so its thresholds are taken as they are.
+    pub const FIRMWARE: Params = Params {
+        // W_ON = 0: no ON channel in attention or the correlators
+        w: 0.0,
+        // Nc = 2
+        n: 2,
+        // t = 10 on half grey levels: 20 levels, 80 on the 10-bit scale
+        t_a: 80,
+        // AF_Threshold = T_cardinal / 4
+        t_d: 12_500,
+        w_s: 20_000.0,
+        // T_SHORT_TAKEOFF = 5 · T_LPLC2
+        t_s: 750_000,
+        // DELAY_WINDOW 2: exactly the last frame
+        c_d: 1.0,
+        // T_cardinal
+        q_floor: 50_000,
+        q_balance: 0,
+        // T_ExpansionEdgeNum = 3
+        q_arms: 3,
+        // NUM_AF 1
+        max_fields: 1,
+        // T_LPLC2 = 3 · T_cardinal
+        t_lplc2: 150_000,
+        strict_retire: true,
+        // the subtracted products commented out
+        opponent: false,
+        ..Params::PAPER
+    };
+
+    /// The preset these parameters are, `"paper"`, `"alvs"` or `"firmware"`, or `"custom"`.
     pub fn preset_name(&self) -> &'static str {
         if *self == Params::ALVS {
             "alvs"
         } else if *self == Params::PAPER {
             "paper"
+        } else if *self == Params::FIRMWARE {
+            "firmware"
         } else {
             "custom"
         }
     }
 
-    /// A preset by name: `paper` ([`Params::PAPER`]) or `alvs` ([`Params::ALVS`]).
+    /// A preset by name: `paper` ([`Params::PAPER`]), `alvs` ([`Params::ALVS`]) or `firmware`
+    /// ([`Params::FIRMWARE`]).
     pub fn preset(name: &str) -> Option<Params> {
         match name {
             "paper" => Some(Params::PAPER),
             "alvs" => Some(Params::ALVS),
+            "firmware" => Some(Params::FIRMWARE),
             _ => None,
         }
     }
 
     /// Names accepted by [`Params::set`], in the order of the paper.
-    pub const NAMES: [&'static str; 30] = [
+    pub const NAMES: [&'static str; 34] = [
         "w",
         "n",
         "r_af",
@@ -259,12 +330,16 @@ impl Params {
         "short_cols",
         "short_row",
         "look_change",
+        "max_fields",
+        "t_lplc2",
+        "strict_retire",
+        "opponent",
     ];
 
     /// The values each parameter of [`Params::NAMES`] may take (same order): the range the
     /// model can compute with, without a panic or an overflow. `s` is further bounded by
     /// `n · s ≤ MAX_REACH`.
-    pub const RANGES: [Range; 30] = [
+    pub const RANGES: [Range; 34] = [
         Range::Real(0.0, 4.0),
         Range::Int(1, MAX_N as i64),
         Range::Int(1, 99),
@@ -295,6 +370,11 @@ impl Params {
         Range::Int(0, 49),
         Range::Int(0, HEIGHT as i64 - 1),
         Range::Int(0, 255),
+        Range::Int(1, MAX_AFS as i64),
+        Range::Int(0, u32::MAX as i64),
+        // switches: 0 (false) or 1 (true)
+        Range::Int(0, 1),
+        Range::Int(0, 1),
     ];
 
     /// The allowed values of the parameter `name`, `None` for an unknown name.
@@ -327,6 +407,8 @@ impl Params {
         check_int("short_cols", self.short_cols.into())?;
         check_int("short_row", self.short_row.into())?;
         check_int("look_change", self.look_change.into())?;
+        check_int("max_fields", self.max_fields.into())?;
+        check_int("t_lplc2", self.t_lplc2.into())?;
         check_int("d", self.d.into())?;
         check_f32("w_s", self.w_s)?;
         check_f32("alpha", self.alpha)?;
@@ -383,8 +465,12 @@ impl Params {
             "floor_row" => p.floor_row = int(name, v)?,
             "short_cols" => p.short_cols = int(name, v)?,
             "short_row" => p.short_row = int(name, v)?,
+            "look_change" => p.look_change = int(name, v)?,
+            "max_fields" => p.max_fields = int(name, v)?,
+            "t_lplc2" => p.t_lplc2 = int(name, v)?,
+            "strict_retire" => p.strict_retire = int::<u8>(name, v)? != 0,
             // the last of NAMES; every other name matched above
-            _ => p.look_change = int(name, v)?,
+            _ => p.opponent = int::<u8>(name, v)? != 0,
         }
         p.validate()?;
         *self = p;
@@ -586,6 +672,11 @@ mod tests {
         );
         assert_eq!((paper.look_change, alvs.look_change), (0, 25));
         assert_eq!(alvs.t_s, 5500);
+        // the firmware's switches keep the paper's and the default's behaviour
+        for p in [paper, alvs] {
+            assert_eq!((p.max_fields, p.t_lplc2, p.strict_retire), (6, 0, false));
+            assert!(p.opponent);
+        }
         // everything else is the paper's
         assert_eq!(
             Params {
@@ -614,6 +705,89 @@ mod tests {
         assert_eq!(Params::preset("ALVS"), None);
         assert_eq!((paper.preset_name(), alvs.preset_name()), ("paper", "alvs"));
         assert_eq!(Params { t_a: 99, ..alvs }.preset_name(), "custom");
+    }
+
+    #[test]
+    fn the_firmware_is_the_paper_with_the_documented_values_only() {
+        let (paper, fw) = (Params::PAPER, Params::FIRMWARE);
+        // docs/notes/2026-11-27-authors-firmware.md: each value and its source line
+        assert_eq!(
+            (fw.w, fw.n, fw.t_a, fw.t_d, fw.w_s),
+            (0.0, 2, 80, 12_500, 20_000.0)
+        );
+        assert_eq!((fw.t_s, fw.c_d), (750_000, 1.0));
+        assert_eq!((fw.q_floor, fw.q_balance, fw.q_arms), (50_000, 0, 3));
+        assert_eq!(
+            (fw.max_fields, fw.t_lplc2, fw.strict_retire),
+            (1, 150_000, true)
+        );
+        assert!(!fw.opponent);
+        // everything else is the paper's: no closed-loop mechanism
+        assert_eq!(
+            Params {
+                w: paper.w,
+                n: paper.n,
+                t_a: paper.t_a,
+                t_d: paper.t_d,
+                w_s: paper.w_s,
+                t_s: paper.t_s,
+                c_d: paper.c_d,
+                q_floor: paper.q_floor,
+                q_balance: paper.q_balance,
+                q_arms: paper.q_arms,
+                max_fields: paper.max_fields,
+                t_lplc2: paper.t_lplc2,
+                strict_retire: paper.strict_retire,
+                opponent: paper.opponent,
+                ..fw
+            },
+            paper
+        );
+        assert_eq!(fw.validate(), Ok(()));
+        assert_eq!(Params::preset("firmware"), Some(fw));
+        assert_eq!(fw.preset_name(), "firmware");
+        assert_eq!(Params { n: 3, ..fw }.preset_name(), "custom");
+    }
+
+    #[test]
+    fn the_firmwares_switches_are_set_by_name() {
+        let mut p = Params::PAPER;
+        assert_eq!(p.set("max_fields", "1"), Ok(()));
+        assert_eq!(p.set("t_lplc2", "150000"), Ok(()));
+        assert_eq!(p.set("strict_retire", "1"), Ok(()));
+        assert_eq!(
+            (p.max_fields, p.t_lplc2, p.strict_retire),
+            (1, 150_000, true)
+        );
+        assert_eq!(p.set("strict_retire", "0"), Ok(()));
+        assert!(!p.strict_retire);
+        assert_eq!(p.set("opponent", "0"), Ok(()));
+        assert!(!p.opponent);
+        let msg = |name: &str, v: &str| {
+            {
+                let mut p = Params::PAPER;
+                p.set(name, v)
+            }
+            .unwrap_err()
+            .to_string()
+        };
+        assert_eq!(
+            msg("max_fields", "0"),
+            "parameter max_fields must lie in 1..=6"
+        );
+        assert_eq!(
+            msg("max_fields", "7"),
+            "parameter max_fields must lie in 1..=6"
+        );
+        assert_eq!(
+            msg("strict_retire", "2"),
+            "parameter strict_retire must lie in 0..=1"
+        );
+        assert_eq!(
+            msg("strict_retire", "yes"),
+            "parameter strict_retire must be a whole number in 0..=1"
+        );
+        assert!(Params { max_fields: 0, ..p }.validate().is_err());
     }
 
     #[test]

@@ -42,7 +42,7 @@ pub const MAX_X_TENTHS: u16 = (WIDTH as u16 - 1) * 10;
 pub const MAX_STRENGTH_MILLI: u16 = 1000;
 
 /// Every FSM state, to size [`LINE_CAP`] from the longest name.
-const STATES: [State; 6] = State::ALL;
+const STATES: [State; 7] = State::ALL;
 
 const fn longest_state_name() -> usize {
     let mut max = 0;
@@ -461,7 +461,8 @@ mod tests {
             | State::Escape
             | State::ShortTakeoff
             | State::Spin
-            | State::Look => {}
+            | State::Look
+            | State::Stop => {}
         }
     }
 

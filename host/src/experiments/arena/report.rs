@@ -4,13 +4,14 @@ use super::*;
 use crate::experiments::Report;
 
 /// Controller states in the order tables and pictures list them.
-pub(super) const STATE_ORDER: [&str; 6] = [
+pub(super) const STATE_ORDER: [&str; 7] = [
     "wander",
     "long_takeoff",
     "escape",
     "short_takeoff",
     "spin",
     "look",
+    "stop",
 ];
 
 /// Short column heads of the states.

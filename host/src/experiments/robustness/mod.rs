@@ -54,13 +54,24 @@ pub enum SuiteController {
     /// ALVS with the paper's model exactly (`--model paper`: `Params::PAPER`,
     /// `FsmParams::PAPER`).
     Paper,
+    /// ALVS with what the authors' public firmware runs (`--model firmware`:
+    /// `Params::FIRMWARE`, `FsmParams::FIRMWARE`). Not in [`SuiteController::DEFAULT`].
+    Firmware,
     /// The LGMD2 baseline, with the motion parameters the arena gives it by default.
     Lgmd2,
 }
 
 impl SuiteController {
-    /// All three, in the table's order.
-    pub const ALL: [SuiteController; 3] = [
+    /// All four, in the table's order.
+    pub const ALL: [SuiteController; 4] = [
+        SuiteController::Alvs,
+        SuiteController::Paper,
+        SuiteController::Firmware,
+        SuiteController::Lgmd2,
+    ];
+
+    /// The suite's controllers when none is asked for (docs/robustness.md's tables).
+    pub const DEFAULT: [SuiteController; 3] = [
         SuiteController::Alvs,
         SuiteController::Paper,
         SuiteController::Lgmd2,
@@ -71,6 +82,7 @@ impl SuiteController {
         match self {
             SuiteController::Alvs => "alvs",
             SuiteController::Paper => "paper",
+            SuiteController::Firmware => "firmware",
             SuiteController::Lgmd2 => "lgmd2",
         }
     }
@@ -78,7 +90,9 @@ impl SuiteController {
     /// The arena's controller kind.
     pub const fn kind(self) -> Kind {
         match self {
-            SuiteController::Alvs | SuiteController::Paper => Kind::Alvs,
+            SuiteController::Alvs | SuiteController::Paper | SuiteController::Firmware => {
+                Kind::Alvs
+            }
             SuiteController::Lgmd2 => Kind::Lgmd2,
         }
     }
@@ -87,6 +101,7 @@ impl SuiteController {
     pub const fn params(self) -> Params {
         match self {
             SuiteController::Paper => Params::PAPER,
+            SuiteController::Firmware => Params::FIRMWARE,
             SuiteController::Alvs | SuiteController::Lgmd2 => Params::ALVS,
         }
     }
@@ -95,6 +110,7 @@ impl SuiteController {
     pub const fn fsm(self) -> FsmParams {
         match self {
             SuiteController::Paper => FsmParams::PAPER,
+            SuiteController::Firmware => FsmParams::FIRMWARE,
             SuiteController::Alvs | SuiteController::Lgmd2 => FsmParams::ALVS,
         }
     }
@@ -125,7 +141,7 @@ impl Default for RobustnessConfig {
             world: BuiltinWorld::Fu2019,
             seeds: REPORT_SEEDS.collect(),
             perturbations: Perturbation::ALL.to_vec(),
-            controllers: SuiteController::ALL.to_vec(),
+            controllers: SuiteController::DEFAULT.to_vec(),
             robots: 3,
             minutes: 10.0,
         }

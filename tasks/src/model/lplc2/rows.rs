@@ -32,7 +32,9 @@ pub struct Narrow {
 impl Narrow {
     /// The narrow form of `sc`, if it has one.
     pub fn new(sc: &LmScale) -> Option<Narrow> {
-        if sc.s != 1 || sc.n == 0 || sc.n > usize::from(crate::model::params::MAX_N) {
+        // the row kernel computes the opponent form only
+        if !sc.opponent || sc.s != 1 || sc.n == 0 || sc.n > usize::from(crate::model::params::MAX_N)
+        {
             return None;
         }
         if sc.t4_q16 < 0 || sc.t5_q16 < 0 || sc.shift > 63 {
