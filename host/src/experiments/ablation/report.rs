@@ -587,11 +587,10 @@ impl AblationReport {
                 ),
                 _ => {
                     let v = values(p, &|cell| cell.pooled.collision_share().map(|s| 100.0 * s));
-                    let most = v.iter().flatten().flatten().fold(1.0f64, |a, &b| a.max(b));
                     (
                         format!("Collisions (% of trials): {}", self.part_title(part)),
                         v,
-                        nice_ceiling(most),
+                        100.0,
                     )
                 }
             };
