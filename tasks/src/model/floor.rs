@@ -127,18 +127,34 @@ const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
     let differs = |y: usize| (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
     let mut run = 0;
-    (top + 1 - FOOT_ROWS..HEIGHT).rev().find_map(|y| {
-        run = if differs(y) { run + 1 } else { 0 };
-        let foot = y + FOOT_ROWS - 1;
-        (run == FOOT_ROWS && covered(foot, &differs)).then_some(foot)
-    })
+    // differing rows below the current one; all of them, from below the horizon down, counted
+    // once at the first candidate: the cover of each candidate is then a subtraction, so a
+    // column costs at most two passes, not one per candidate
+    let (mut below, mut total) = (0, None);
+    for y in (top + 1 - FOOT_ROWS..HEIGHT).rev() {
+        let d = differs(y);
+        run = if d { run + 1 } else { 0 };
+        if run == FOOT_ROWS {
+            let foot = y + FOOT_ROWS - 1;
+            let all = *total
+                .get_or_insert_with(|| (BELOW_HORIZON..HEIGHT).filter(|&r| differs(r)).count());
+            // the foot's own run is in `below` but for row y; the rest of `below` lies under it
+            let hits = all.saturating_sub(below + 1 - FOOT_ROWS);
+            if covered(foot, hits) {
+                return Some(foot);
+            }
+        }
+        if d && y >= BELOW_HORIZON {
+            below += 1;
+        }
+    }
+    None
 }
 
-/// Whether at least [`FOOT_COVER_PCT`] % of the rows from `foot` up to the row below the
-/// horizon differ from the floor.
-fn covered(foot: usize, differs: &impl Fn(usize) -> bool) -> bool {
+/// Whether `hits`, the rows from `foot` up to the row below the horizon that differ from the
+/// floor, are at least [`FOOT_COVER_PCT`] % of those rows.
+fn covered(foot: usize, hits: usize) -> bool {
     let rows = (foot + 1).saturating_sub(BELOW_HORIZON);
-    let hits = (BELOW_HORIZON..=foot).filter(|&y| differs(y)).count();
     100 * hits >= FOOT_COVER_PCT * rows
 }
 
