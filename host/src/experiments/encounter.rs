@@ -298,7 +298,8 @@ pub struct EncounterResult {
     /// Its final displacement along its initial heading, mm.
     pub forward_mm: f64,
     /// Its heading change from the start to the end of its first takeoff, degrees (positive =
-    /// turned right; 0 if it never alerted).
+    /// turned right; 0 if it never alerted), unwrapped: a turn of 182° to the left is −182°,
+    /// not +178°.
     pub escape_turn_deg: f64,
     /// Simulated time of its first alert, s.
     pub first_alert_s: Option<f64>,
@@ -327,6 +328,31 @@ impl EncounterResult {
     /// The side it turned to.
     pub fn side(&self) -> Side {
         Side::of(self.escape_turn_deg)
+    }
+}
+
+/// The heading change since a start, unwrapped frame by frame (a frame turns far less than
+/// 180°), so that a turn past 180° keeps the side it turned to: 182° to the left is −182°.
+#[derive(Debug, Clone, Copy)]
+pub struct Turned {
+    /// The change so far, degrees, positive = right.
+    pub total_deg: f64,
+    last_deg: f64,
+}
+
+impl Turned {
+    /// Nothing turned yet, facing `start_deg`.
+    pub fn new(start_deg: f64) -> Self {
+        Turned {
+            total_deg: 0.0,
+            last_deg: start_deg,
+        }
+    }
+
+    /// The next frame's heading.
+    pub fn observe(&mut self, heading_deg: f64) {
+        self.total_deg += crate::arena::world::wrap_deg(heading_deg - self.last_deg);
+        self.last_deg = heading_deg;
     }
 }
 
@@ -472,6 +498,7 @@ pub fn run_with(
     let mut first_alert = None;
     let mut takeoff_state = "";
     let mut escape_turn = None;
+    let mut turned = Turned::new(start.heading_deg);
     let window = (TURN_WINDOW_S / FRAME_DT_S).round() as u64;
     let mut trace = Vec::new();
     for f in 0..frames {
@@ -497,11 +524,10 @@ pub fn run_with(
                 distance_mm: poses[1..].iter().map(|p| poses[0].distance_to(p)).collect(),
             });
         }
+        turned.observe(poses[0].heading_deg);
         if let (Some(a), None) = (first_alert, escape_turn) {
             if state != takeoff_state || f >= a + window {
-                escape_turn = Some(crate::arena::world::wrap_deg(
-                    poses[0].heading_deg - start.heading_deg,
-                ));
+                escape_turn = Some(turned.total_deg);
             }
         }
         for (k, d) in min_distance.iter_mut().enumerate() {
@@ -537,12 +563,10 @@ pub fn run_with(
         collided_with,
         lateral_mm: dx * rx + dy * ry,
         forward_mm: dx * fx + dy * fy,
-        escape_turn_deg: escape_turn.unwrap_or_else(|| {
-            if first_alert.is_some() {
-                crate::arena::world::wrap_deg(end.heading_deg - start.heading_deg)
-            } else {
-                0.0
-            }
+        escape_turn_deg: escape_turn.unwrap_or(if first_alert.is_some() {
+            turned.total_deg
+        } else {
+            0.0
         }),
         first_alert_s: first_alert.map(|f| (f + 1) as f64 * FRAME_DT_S),
         first_reaction: first_alert.map(|_| takeoff_state),
@@ -551,5 +575,26 @@ pub fn run_with(
         trails,
         end_poses: sim.physics.poses().to_vec(),
         trace,
+    }
+}
+
+#[cfg(test)]
+mod turned_tests {
+    use super::Turned;
+
+    #[test]
+    fn a_turn_past_180_keeps_its_side() {
+        // evasion, seed 2, 8.75°: the robot turned left from −100° through ±180° to 78°, 182°
+        // in all (from −106.9°, 175°): the wrapped difference called it +178° to the right
+        let mut t = Turned::new(-106.9);
+        for h in [
+            -122.1, -141.7, -163.6, 173.5, 150.2, 126.3, 104.7, 88.3, 78.3,
+        ] {
+            t.observe(h);
+        }
+        assert!((t.total_deg - -174.8).abs() < 1e-9, "{}", t.total_deg);
+        let mut right = Turned::new(170.0);
+        right.observe(-170.0);
+        assert!((right.total_deg - 20.0).abs() < 1e-9);
     }
 }
