@@ -125,30 +125,24 @@ const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 /// [`FOOT_ROWS`] rows that differ from `floor` (the run's lower row) whose column above is
 /// covered up to the horizon ([`FOOT_COVER_PCT`]).
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
-    let differs = |y: usize| (i32::from(frame[y * WIDTH + x]) - floor).abs() > FLOOR_TOL;
-    let mut run = 0;
-    // differing rows below the current one; all of them, from below the horizon down, counted
-    // once at the first candidate: the cover of each candidate is then a subtraction, so a
-    // column costs at most two passes, not one per candidate
-    let (mut below, mut total) = (0, None);
-    for y in (top + 1 - FOOT_ROWS..HEIGHT).rev() {
-        let d = differs(y);
+    // One pass down the column from the horizon (by stride, no index per pixel), counting the
+    // rows that differ: the foot is the lowest row at or below `top` that differs with the row
+    // above it, and whose rows up to the horizon are covered; the same foot a scan up from the
+    // bottom finds, for one pass whatever the column holds.
+    let first = (top + 1 - FOOT_ROWS).min(BELOW_HORIZON);
+    let (mut hits, mut run, mut found) = (0, 0, None);
+    let column = frame[first * WIDTH + x..].iter().step_by(WIDTH);
+    for (y, &p) in (first..HEIGHT).zip(column) {
+        let d = (i32::from(p) - floor).abs() > FLOOR_TOL;
         run = if d { run + 1 } else { 0 };
-        if run == FOOT_ROWS {
-            let foot = y + FOOT_ROWS - 1;
-            let all = *total
-                .get_or_insert_with(|| (BELOW_HORIZON..HEIGHT).filter(|&r| differs(r)).count());
-            // the foot's own run is in `below` but for row y; the rest of `below` lies under it
-            let hits = all.saturating_sub(below + 1 - FOOT_ROWS);
-            if covered(foot, hits) {
-                return Some(foot);
-            }
-        }
         if d && y >= BELOW_HORIZON {
-            below += 1;
+            hits += 1;
+        }
+        if run >= FOOT_ROWS && y >= top && covered(y, hits) {
+            found = Some(y);
         }
     }
-    None
+    found
 }
 
 /// Whether `hits`, the rows from `foot` up to the row below the horizon that differ from the
