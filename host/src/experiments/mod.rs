@@ -64,6 +64,17 @@ pub trait Report {
     }
 }
 
+/// Writes `picture` as `dir/summary.png` (the folder created) and returns its path: the one
+/// picture of a sweep whose report is a table.
+pub fn write_summary(dir: &Path, picture: &crate::canvas::Canvas) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let path = dir.join("summary.png");
+    picture
+        .save_png(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(vec![path])
+}
+
 /// The checks every experiment's configuration shares: something to run and valid model
 /// parameters.
 pub fn validate_setup(controllers: &[Kind], params: &Params) -> Result<()> {

@@ -26,13 +26,12 @@ use serde::{Deserialize, Serialize};
 pub use mechanisms::*;
 pub use report::*;
 
-use super::arena::{self, TrialSetup};
 use super::evasion::{self, EvasionConfig};
 use super::parallel;
-use super::robustness::{Perturbation, REPORT_SEEDS};
+use super::robustness::{PairedArena, Perturbation, REPORT_SEEDS};
 use super::sweep::{Shard, Sweep};
 use super::two_threats::{self, TwoThreatConfig};
-use crate::arena::{BuiltinWorld, Pose, SimOptions, World, FRAME_DT_S};
+use crate::arena::{BuiltinWorld, FRAME_DT_S};
 
 /// The photograph among the default evasion walls: `outdoor_2`, the soft one, on which the
 /// default's blocked-way and floor tests were hardest (docs/experiments.md). All three
@@ -170,15 +169,12 @@ pub struct AblationTrial {
 
 /// The checked plan.
 struct Prepared {
-    world: World,
-    seeds: Vec<u64>,
+    /// The arena part's trials, paired across variants as the robustness suite's.
+    paired: PairedArena,
     /// The seeded parts.
     parts: Vec<Part>,
     /// The clips: name, looming, frames.
     clips: Vec<(String, bool, Vec<alvs_tasks::frame::Frame>)>,
-    starts: Vec<Vec<Pose>>,
-    controller_seeds: Vec<Vec<u64>>,
-    frames: u64,
 }
 
 impl AblationConfig {
@@ -247,13 +243,7 @@ impl AblationConfig {
     fn prepare(&self) -> Result<Prepared> {
         ensure!(!self.seeds.is_empty(), "no seed to run");
         ensure!(!self.variants.is_empty(), "no variant to run");
-        ensure!(self.robots >= 1, "--robots must be at least 1");
-        ensure!(
-            self.minutes.is_finite() && self.minutes > 0.0 && self.minutes <= arena::MAX_MINUTES,
-            "--minutes must be a positive number of minutes up to {}, got {}",
-            arena::MAX_MINUTES,
-            self.minutes
-        );
+        let paired = PairedArena::new(self.world, &self.seeds, self.robots, self.minutes)?;
         let parts = self.seeded_parts();
         ensure!(!self.parts().is_empty(), "no experiment to run");
         let clips = if self.clips {
@@ -274,24 +264,10 @@ impl AblationConfig {
         for w in self.walls.iter().flatten() {
             super::texture(w)?;
         }
-        let world = self.world.world();
-        let starts = self
-            .seeds
-            .iter()
-            .map(|&s| arena::start_poses_among(&world.arena, &world.obstacles, self.robots, s))
-            .collect::<Result<Vec<_>>>()?;
         Ok(Prepared {
-            controller_seeds: self
-                .seeds
-                .iter()
-                .map(|&s| arena::controller_seeds(s, self.robots))
-                .collect(),
-            world,
-            seeds: self.seeds.clone(),
+            paired,
             parts,
             clips,
-            starts,
-            frames: self.frames(),
         })
     }
 }
@@ -314,25 +290,20 @@ impl Sweep for AblationConfig {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, AblationTrial)>> {
         let prep = self.prepare()?;
-        let (ns, np, u) = (prep.seeds.len(), prep.parts.len(), self.per_variant());
+        let (ns, np, u) = (self.seeds.len(), prep.parts.len(), self.per_variant());
         let results = parallel::slice(self.trial_count(), jobs, shard, |k| {
             let (v, r) = (k / u, k % u);
             let variant = self.variants[v];
-            if r == ns * np {
-                return Ok(AblationTrial {
-                    variant: v,
-                    seed: None,
-                    part: Part::Clips,
-                    measured: replay_clips(&prep, variant, progress)?,
-                });
-            }
-            let (s, p) = (r / np, r % np);
-            let measured = self.run_part(&prep, variant, s, p, progress)?;
+            // the clips last, once; the seeded parts seed-major
+            let (s, part) = match r.checked_sub(ns * np) {
+                Some(_) => (None, &Part::Clips),
+                None => (Some(r / np), &prep.parts[r % np]),
+            };
             Ok::<_, anyhow::Error>(AblationTrial {
                 variant: v,
-                seed: Some(prep.seeds[s]),
-                part: prep.parts[p].clone(),
-                measured,
+                seed: s.map(|s| prep.paired.seeds()[s]),
+                part: part.clone(),
+                measured: self.run_part(&prep, variant, s.unwrap_or(0), part, progress)?,
             })
         })?;
         results
@@ -347,41 +318,23 @@ impl Sweep for AblationConfig {
 }
 
 impl AblationConfig {
+    /// Runs `part` of `variant` on seed `s` (an index into the seeds; the clips have none).
     fn run_part(
         &self,
         prep: &Prepared,
         variant: Variant,
         s: usize,
-        p: usize,
+        part: &Part,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Measured> {
-        let seed = prep.seeds[s];
+        let seed = prep.paired.seeds()[s];
         let model = variant.model();
         let kind = variant.kind();
-        match &prep.parts[p] {
+        match part {
             &Part::Arena { perturbation } => {
-                let (mut motor, gyro, noise) = crate::arena::robot_noise(true);
-                let mut options = SimOptions::default();
-                perturbation.apply(seed, &mut motor, &mut options);
-                let t = arena::run_world_trial(
-                    &TrialSetup {
-                        world: &prep.world,
-                        background: self.world.label(),
-                        kind,
-                        params: model.params,
-                        fsm: model.fsm,
-                        seed,
-                        starts: &prep.starts[s],
-                        controller_seeds: &prep.controller_seeds[s],
-                        motor,
-                        gyro,
-                        noise,
-                        options,
-                        frames: prep.frames,
-                        trace: false,
-                    },
-                    progress,
-                );
+                let t =
+                    prep.paired
+                        .trial(s, perturbation, kind, (model.params, model.fsm), progress);
                 let escaping = ["long_takeoff", "escape", "short_takeoff"]
                     .iter()
                     .filter_map(|s| t.state_fraction.get(*s))

@@ -5,7 +5,7 @@
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
 use super::{AblationConfig, AblationTrial, Measured, Part, Variant, MECHANISMS};
@@ -512,12 +512,7 @@ impl Report for AblationReport {
     }
 
     fn write_pictures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let path = dir.join("summary.png");
-        self.summary_picture()
-            .save_png(&path)
-            .with_context(|| format!("cannot write {}", path.display()))?;
-        Ok(vec![path])
+        crate::experiments::write_summary(dir, &self.summary_picture())
     }
 }
 

@@ -159,15 +159,92 @@ fn unique<T: PartialEq + Copy>(v: &[T]) -> Vec<T> {
     out
 }
 
-/// A checked configuration: the world, and each seed's start poses and controller seeds.
-struct Prepared {
+/// Arena trials paired across the rows of a sweep: in one world, for one length, each seed's
+/// start poses and controller seeds are the same whatever the perturbation or controller (the
+/// suite's trials, and the ablation's arena part).
+pub struct PairedArena {
     world: World,
+    label: &'static str,
     seeds: Vec<u64>,
-    perturbations: Vec<Perturbation>,
-    controllers: Vec<SuiteController>,
     starts: Vec<Vec<Pose>>,
     controller_seeds: Vec<Vec<u64>>,
     frames: u64,
+}
+
+impl PairedArena {
+    /// `robots` robots on each of `seeds` in `world`, `minutes` a trial; the error is one line.
+    pub fn new(world: BuiltinWorld, seeds: &[u64], robots: usize, minutes: f64) -> Result<Self> {
+        ensure!(robots >= 1, "--robots must be at least 1");
+        ensure!(
+            minutes.is_finite() && minutes > 0.0 && minutes <= arena::MAX_MINUTES,
+            "--minutes must be a positive number of minutes up to {}, got {minutes}",
+            arena::MAX_MINUTES,
+        );
+        ensure!(!seeds.is_empty(), "no seed to run");
+        let (label, world) = (world.label(), world.world());
+        let starts = seeds
+            .iter()
+            .map(|&s| arena::start_poses_among(&world.arena, &world.obstacles, robots, s))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(PairedArena {
+            controller_seeds: seeds
+                .iter()
+                .map(|&s| arena::controller_seeds(s, robots))
+                .collect(),
+            world,
+            label,
+            seeds: seeds.to_vec(),
+            starts,
+            frames: ((minutes * 60.0 / FRAME_DT_S).round() as u64).max(1),
+        })
+    }
+
+    /// The seeds, in order.
+    pub fn seeds(&self) -> &[u64] {
+        &self.seeds
+    }
+
+    /// The arena's trial on seed `s` (an index into [`PairedArena::seeds`]) with `kind`
+    /// running `params` and `fsm` on every robot, `perturbation` applied, the realistic noise.
+    pub fn trial(
+        &self,
+        s: usize,
+        perturbation: Perturbation,
+        kind: Kind,
+        (params, fsm): (Params, FsmParams),
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Trial {
+        let seed = self.seeds[s];
+        let (mut motor, gyro, noise) = crate::arena::robot_noise(true);
+        let mut options = SimOptions::default();
+        perturbation.apply(seed, &mut motor, &mut options);
+        arena::run_world_trial(
+            &TrialSetup {
+                world: &self.world,
+                background: self.label,
+                kind,
+                params,
+                fsm,
+                seed,
+                starts: &self.starts[s],
+                controller_seeds: &self.controller_seeds[s],
+                motor,
+                gyro,
+                noise,
+                options,
+                frames: self.frames,
+                trace: false,
+            },
+            progress,
+        )
+    }
+}
+
+/// A checked configuration: the paired trials, the rows.
+struct Prepared {
+    paired: PairedArena,
+    perturbations: Vec<Perturbation>,
+    controllers: Vec<SuiteController>,
 }
 
 impl RobustnessConfig {
@@ -196,33 +273,13 @@ impl RobustnessConfig {
     }
 
     fn prepare(&self) -> Result<Prepared> {
-        ensure!(self.robots >= 1, "--robots must be at least 1");
-        ensure!(
-            self.minutes.is_finite() && self.minutes > 0.0 && self.minutes <= arena::MAX_MINUTES,
-            "--minutes must be a positive number of minutes up to {}, got {}",
-            arena::MAX_MINUTES,
-            self.minutes
-        );
-        ensure!(!self.seeds.is_empty(), "no seed to run");
+        let paired = PairedArena::new(self.world, &unique(&self.seeds), self.robots, self.minutes)?;
         ensure!(!self.perturbations.is_empty(), "no perturbation to run");
         ensure!(!self.controllers.is_empty(), "no controller to run");
-        let world = self.world.world();
-        let seeds = unique(&self.seeds);
-        let starts = seeds
-            .iter()
-            .map(|&s| arena::start_poses_among(&world.arena, &world.obstacles, self.robots, s))
-            .collect::<Result<Vec<_>>>()?;
         Ok(Prepared {
-            controller_seeds: seeds
-                .iter()
-                .map(|&s| arena::controller_seeds(s, self.robots))
-                .collect(),
-            world,
-            seeds,
+            paired,
             perturbations: unique(&self.perturbations),
             controllers: unique(&self.controllers),
-            starts,
-            frames: self.frames(),
         })
     }
 }
@@ -264,50 +321,23 @@ impl Sweep for RobustnessConfig {
                 prep.controllers[(k / ns) % nc],
             );
             let s = k % ns;
-            run_trial(&prep, self.world, perturbation, controller, s, progress)
+            let mut trial = prep.paired.trial(
+                s,
+                perturbation,
+                controller.kind(),
+                (controller.params(), controller.fsm()),
+                progress,
+            );
+            trial.trails.clear();
+            RobustTrial {
+                perturbation,
+                controller,
+                trial,
+            }
         })
     }
 
     fn report(&self, trials: Vec<RobustTrial>, wall_clock_s: f64, jobs: usize) -> RobustnessReport {
         RobustnessReport::new(self.clone(), trials, wall_clock_s, jobs)
-    }
-}
-
-fn run_trial(
-    prep: &Prepared,
-    world: BuiltinWorld,
-    perturbation: Perturbation,
-    controller: SuiteController,
-    s: usize,
-    progress: &(dyn Fn(u64) + Sync),
-) -> RobustTrial {
-    let seed = prep.seeds[s];
-    let (mut motor, gyro, noise) = crate::arena::robot_noise(true);
-    let mut options = SimOptions::default();
-    perturbation.apply(seed, &mut motor, &mut options);
-    let mut trial = arena::run_world_trial(
-        &TrialSetup {
-            world: &prep.world,
-            background: world.label(),
-            kind: controller.kind(),
-            params: controller.params(),
-            fsm: controller.fsm(),
-            seed,
-            starts: &prep.starts[s],
-            controller_seeds: &prep.controller_seeds[s],
-            motor,
-            gyro,
-            noise,
-            options,
-            frames: prep.frames,
-            trace: false,
-        },
-        progress,
-    );
-    trial.trails.clear();
-    RobustTrial {
-        perturbation,
-        controller,
-        trial,
     }
 }
