@@ -28,6 +28,12 @@ pub fn slice<R: Send>(
         return Ok(Vec::new());
     }
     let jobs = if jobs == 0 { default_jobs() } else { jobs }.clamp(1, mine.len());
+    if jobs == 1 {
+        // on this thread: a pool's `install` called from another pool's worker (the ablation
+        // runs whole experiments as its trials) waits by stealing that pool's next trial onto
+        // the same stack, and enough of them overflowed it
+        return Ok(mine.into_iter().map(|k| (k, f(k))).collect());
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .thread_name(|i| format!("alvs-trial-{i}"))
@@ -41,4 +47,46 @@ pub fn slice<R: Send>(
             .map(|&k| (k, f(k)))
             .collect()
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Trials running on this thread now, and the most at once.
+        static DEPTH: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
+    }
+
+    /// A trial that runs a one-thread slice of its own, as the ablation's trials run whole
+    /// experiments: its inner work stays on its thread, and no other outer trial is stolen
+    /// onto the same stack while it waits (which nested trials until the stack overflowed).
+    #[test]
+    fn a_one_thread_slice_inside_a_trial_nests_nothing() {
+        let outer = slice(64, 2, None, |k| {
+            DEPTH.with(|d| {
+                let (now, most) = d.get();
+                d.set((now + 1, most.max(now + 1)));
+            });
+            let inner = slice(3, 1, None, |i| {
+                std::thread::sleep(std::time::Duration::from_millis(1));
+                k + i
+            })
+            .unwrap();
+            let most = DEPTH.with(|d| {
+                let (now, most) = d.get();
+                d.set((now - 1, most));
+                most
+            });
+            (inner.iter().map(|&(_, v)| v).sum::<usize>(), most)
+        })
+        .unwrap();
+        let sums: Vec<usize> = outer.iter().map(|(_, (s, _))| *s).collect();
+        assert_eq!(sums, (0..64).map(|k| 3 * k + 3).collect::<Vec<_>>());
+        assert!(
+            outer.iter().all(|(_, (_, most))| *most == 1),
+            "trials nested"
+        );
+    }
 }
