@@ -177,24 +177,19 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}; T_s {}, Table I {}) + warm-up {} frames, flicker {} %, derotate {}, adapt {} frames, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blocked way below {} grey levels, escape saccade {}, fields above row {} silent, the floor line at row {} and the short mode within {} columns of the centre and its foot at or below row {} while driving, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
             alvs_tasks::Params::ALVS.t_a,
             alvs_tasks::Params::ALVS.t_d,
             alvs_tasks::Params::ALVS.t_s,
-            alvs_tasks::Params::PAPER.t_s,
             alvs_tasks::Params::ALVS.warmup,
             alvs_tasks::Params::ALVS.flicker_pct,
             alvs_tasks::Params::ALVS.derotate,
-            alvs_tasks::Params::ALVS.adapt_frames,
             alvs_tasks::Params::ALVS.q_arms,
             alvs_tasks::Params::ALVS.q_grow_pct,
             alvs_tasks::Params::ALVS.t_a_quiet,
-            alvs_tasks::Params::ALVS.blocked_change,
-            FsmParams::ALVS.escape_saccade,
             alvs_tasks::Params::ALVS.band_row,
             alvs_tasks::Params::ALVS.floor_row,
-            alvs_tasks::Params::ALVS.short_cols,
-            alvs_tasks::Params::ALVS.short_row,
+            FsmParams::ALVS.escape_saccade,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES,
             BOOT_BEHAVIOUR.name()

@@ -166,12 +166,14 @@ fn looming(cx: usize, cy: usize, forward_mm_s: f32) -> (u32, u32) {
     looming_with(cx, cy, forward_mm_s, 0)
 }
 
-/// [`looming`] with `Params::short_row` = `short_row`, on a floor (the mid-grey ground).
+/// [`looming`] with `Params::short_row` = `short_row`, on a floor (the mid-grey ground). The
+/// option `Params::short_cols` is on, at the 23 columns it had in the default.
 fn looming_with(cx: usize, cy: usize, forward_mm_s: f32, short_row: u8) -> (u32, u32) {
     use alvs_tasks::{HEIGHT, PIXELS, WIDTH};
     let mut net = Network::new(Params {
         band_row: 27,
         floor_row: 0,
+        short_cols: 23,
         short_row,
         ..Params::ALVS
     })

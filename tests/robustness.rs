@@ -104,7 +104,9 @@ fn frames_digest(world: &World) -> u64 {
 /// 92d0d27; `fu2019` after the replica's calibration, commit fdc03cc, which moved two obstacles
 /// and added the wheels' slip). The two loop digests were recorded again when the default
 /// controller changed (issue 30: brisk takeoff turns, the floor line's covered foot); the frame
-/// digests, which hold the world, did not change.
+/// digests, which hold the world, did not change. The fu2019 loop again for the default
+/// re-judged on the held-out seeds (issue 30: the options that did not earn their place off,
+/// the floor line's path the body's width).
 #[test]
 fn defaults_are_bit_identical_to_before_the_perturbations() {
     let lab = World::default();
@@ -119,7 +121,7 @@ fn defaults_are_bit_identical_to_before_the_perturbations() {
         0xa9c5_e65f_ef6f_651b,
         0x156a_65f2_a5c3_7264,
         0xbeb4_f453_dadb_a117,
-        0xe742_983b_b6e7_318a,
+        0x0b6c_0522_acc8_75b5,
     ];
     assert_eq!(
         got, want,

@@ -352,9 +352,10 @@ struct AblationArgs {
     /// Seeds (repeatable). Default: 11-20 (the report seeds; tuning uses 1-5).
     #[arg(long = "seed", value_name = "S")]
     seeds: Vec<u64>,
-    /// Variant to run (repeatable): alvs, paper, lgmd2, alvs-M (the default without
-    /// mechanism M) or paper+M (the paper's model with it). Default: all of them; the
-    /// mechanisms are listed under the table and in docs/ablation.md.
+    /// Variant to run (repeatable): alvs, paper, lgmd2, alvs-M (the default without its
+    /// mechanism M), alvs+O (the default with option O) or paper+M (the paper's model with
+    /// mechanism or option M). Default: all of them; the mechanisms and options are listed
+    /// under the table and in docs/ablation.md.
     #[arg(long = "variant", value_name = "NAME", value_parser = Variant::from_name)]
     variants: Vec<Variant>,
     /// Perturbation of the robustness suite the arena part runs under (repeatable). Default:

@@ -199,7 +199,10 @@ fn a_steady_stimulus_adapts_out_of_short_mode() {
         (on, alerts(&outs))
     };
     let (paper, paper_alerts) = short(Params::PAPER);
-    let (adapted, alvs_alerts) = short(Params::default());
+    let (adapted, alvs_alerts) = short(Params {
+        adapt_frames: 30,
+        ..Params::default()
+    });
     println!(
         "short mode: paper {paper:?}, default {adapted:?}; alerts {paper_alerts} / {alvs_alerts}"
     );

@@ -32,10 +32,14 @@ use crate::frame::{HEIGHT, PIXELS, WIDTH};
 
 /// Height of the camera above the floor, mm.
 pub const CAMERA_HEIGHT_MM: i32 = 20;
-/// Half the width of the path the robot sweeps, mm: its 21 mm radius and one radius of
-/// clearance, the gap below which the paper counts a wall collision (centre within one
-/// diameter). 30 (radius and a margin) let robots graze walls (`docs/experiments.md`).
-pub const PATH_HALF_WIDTH_MM: i32 = 42;
+/// Radius of a Colias body, mm (42 mm across, `docs/hardware.md`).
+pub const BODY_RADIUS_MM: i32 = 21;
+/// Half the width of the path the robot sweeps driving straight, mm: its body's radius. A
+/// foot farther from the path's centre line than that passes beside the body. Geometry, not
+/// a score: the collision distance of the experiments (one diameter) is not used here. On the
+/// tuning seeds 1–5 the radius did as well as one diameter (42) and 30, and drove faster
+/// (docs/ablation.md, "The new default").
+pub const PATH_HALF_WIDTH_MM: i32 = BODY_RADIUS_MM;
 /// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2).
 pub const FLOOR_TOL: i32 = 12;
 /// Consecutive rows, bottom up, that must differ from the floor.
@@ -206,8 +210,11 @@ mod tests {
     fn only_the_robots_path_counts() {
         // a post 45-49 columns to the left at row 55: 46-50 mm to the side
         assert_eq!(obstacle_ahead(&scene(55, 0..5, 40), 52), None);
-        // 38 columns to the left, 39 mm: inside the body's radius and its clearance
-        assert_eq!(obstacle_ahead(&scene(55, 11..12, 40), 52), Some(11));
+        // 38 columns to the left, 39 mm: beside the body (21 mm radius)
+        assert_eq!(obstacle_ahead(&scene(55, 11..12, 40), 52), None);
+        // 20 columns to the left, 20.5 mm: just inside its radius; 21 columns, 21.5 mm: beside it
+        assert_eq!(obstacle_ahead(&scene(55, 29..30, 40), 52), Some(29));
+        assert_eq!(obstacle_ahead(&scene(55, 28..29, 40), 52), None);
         // the same post 8 columns to the right: ≈ 8 mm, in the path
         assert_eq!(obstacle_ahead(&scene(55, 55..60, 40), 52), Some(57));
         // of two in the path the nearer (lower foot) wins

@@ -121,8 +121,8 @@ mod tests {
         n.step(&frame);
         assert_eq!(
             n.step(&frame).vm.view,
-            Some(([77; VIEW_CELLS], 2)),
-            "the default"
+            None,
+            "an option the default leaves off"
         );
         let mut n = Network::paper();
         n.step(&frame);

@@ -1,12 +1,14 @@
-//! The default's mechanisms, one entry per thing it adds to the paper's model, and the variants
-//! the ablation runs: the default, the paper's model, the default without one mechanism, the
-//! paper's model with one.
+//! The closed-loop mechanisms, one entry per thing the project adds to the paper's model —
+//! those the default runs and the options it leaves off because they did not earn their place
+//! — and the variants the ablation runs: the default, the paper's model, the default without
+//! one of its mechanisms or with one option, the paper's model with one mechanism.
 //!
 //! A mechanism is the set of parameters that only work together (`q_arms` 3 needs
 //! `q_grow_pct`; the swarm's look needs both its perception and its motion half). Removing it
-//! sets those parameters to the paper's values; adding it sets them to the default's. The test
-//! below holds the list complete: removing every mechanism from the default gives the paper's
-//! model exactly, and each one changes something.
+//! sets those parameters to the paper's values; adding it sets them to their values in
+//! [`Model::ALL`]. The test below holds the list complete: removing every mechanism from the
+//! default gives the paper's model exactly, adding every one to it gives [`Model::ALL`], and
+//! each one changes something.
 
 use alvs_tasks::model::fsm::FsmParams;
 use alvs_tasks::Params;
@@ -34,6 +36,19 @@ impl Model {
         params: Params::PAPER,
         fsm: FsmParams::PAPER,
     };
+    /// The default with every option on too, at the values they had while they were in the
+    /// default (before the ablation on the held-out seeds took them out).
+    pub const ALL: Model = Model {
+        params: Params {
+            blocked_change: 2,
+            adapt_frames: 30,
+            short_cols: 23,
+            short_row: 50,
+            t_s: 5500,
+            ..Params::ALVS
+        },
+        fsm: FsmParams::ALVS,
+    };
 }
 
 /// One mechanism of the default.
@@ -60,16 +75,21 @@ impl Mechanism {
         out
     }
 
-    /// `m` with this mechanism's parameters at the default's values.
+    /// `m` with this mechanism's parameters at their values in [`Model::ALL`].
     pub fn added_to(&self, m: Model) -> Model {
         let mut out = m;
-        (self.copy)(&mut out, &Model::ALVS);
+        (self.copy)(&mut out, &Model::ALL);
         out
+    }
+
+    /// Whether the default runs it (otherwise it is an option, off).
+    pub fn in_default(&self) -> bool {
+        self.removed_from(Model::ALVS) != Model::ALVS
     }
 }
 
-/// Every mechanism the default adds to the paper's model, perception first (in the order of
-/// `Params`), then motion (`FsmParams`).
+/// Every mechanism the project adds to the paper's model, in the default or an option,
+/// perception first (in the order of `Params`), then motion (`FsmParams`).
 pub const MECHANISMS: [Mechanism; 16] = [
     Mechanism {
         name: "warmup",
@@ -153,7 +173,7 @@ pub const MECHANISMS: [Mechanism; 16] = [
     },
     Mechanism {
         name: "t-s",
-        what: "T_s 5500 instead of Table I's 7000",
+        what: "T_s 5500 instead of Table I's 7000 (an option)",
         fields: "t_s",
         escape: true,
         copy: |m, s| m.params.t_s = s.params.t_s,
@@ -209,8 +229,10 @@ pub enum Variant {
     Paper,
     /// The LGMD2 baseline, as the arena runs it.
     Lgmd2,
-    /// The default without `MECHANISMS[i]`.
+    /// The default without `MECHANISMS[i]` (one it runs).
     Without(usize),
+    /// The default with `MECHANISMS[i]` (an option it leaves off).
+    Plus(usize),
     /// The paper's model with `MECHANISMS[i]`.
     With(usize),
 }
@@ -222,13 +244,14 @@ impl From<Variant> for String {
 }
 
 impl Variant {
-    /// Its name: `alvs`, `paper`, `lgmd2`, `alvs-MECHANISM`, `paper+MECHANISM`.
+    /// Its name: `alvs`, `paper`, `lgmd2`, `alvs-MECHANISM`, `alvs+OPTION`, `paper+MECHANISM`.
     pub fn name(self) -> String {
         match self {
             Variant::Alvs => "alvs".into(),
             Variant::Paper => "paper".into(),
             Variant::Lgmd2 => "lgmd2".into(),
             Variant::Without(i) => format!("alvs-{}", MECHANISMS[i].name),
+            Variant::Plus(i) => format!("alvs+{}", MECHANISMS[i].name),
             Variant::With(i) => format!("paper+{}", MECHANISMS[i].name),
         }
     }
@@ -244,26 +267,56 @@ impl Variant {
                 .strip_prefix("alvs-")
                 .and_then(index)
                 .map(Variant::Without)
+                .or_else(|| s.strip_prefix("alvs+").and_then(index).map(Variant::Plus))
                 .or_else(|| s.strip_prefix("paper+").and_then(index).map(Variant::With)),
         };
-        v.ok_or_else(|| {
-            let names: Vec<&str> = MECHANISMS.iter().map(|m| m.name).collect();
-            format!(
-                "unknown variant {s:?}: alvs, paper, lgmd2, alvs-M or paper+M with M one of {}",
-                names.join(", ")
-            )
-        })
+        let names = |default: bool| -> String {
+            let n: Vec<&str> = MECHANISMS
+                .iter()
+                .filter(|m| m.in_default() == default)
+                .map(|m| m.name)
+                .collect();
+            n.join(", ")
+        };
+        match v {
+            Some(Variant::Without(i)) if !MECHANISMS[i].in_default() => Err(format!(
+                "{s:?}: the default does not run {0}; alvs+{0} adds it",
+                MECHANISMS[i].name
+            )),
+            Some(Variant::Plus(i)) if MECHANISMS[i].in_default() => Err(format!(
+                "{s:?}: the default already runs {0}; alvs-{0} removes it",
+                MECHANISMS[i].name
+            )),
+            Some(v) => Ok(v),
+            None => Err(format!(
+                "unknown variant {s:?}: alvs, paper, lgmd2, alvs-M with M one of the default's \
+                 mechanisms ({}), alvs+O with O one of its options ({}), or paper+M with M any \
+                 of them",
+                names(true),
+                names(false)
+            )),
+        }
     }
 
-    /// The default plan: the default, the paper's model and LGMD2, then the default without
-    /// each mechanism the escape experiments can see, then the paper's model with each.
+    /// The default plan: the default, the paper's model and LGMD2, then for each mechanism the
+    /// escape experiments can see the default without it (or, for an option, with it), then
+    /// the paper's model with each.
     pub fn all() -> Vec<Variant> {
         let escape = || (0..MECHANISMS.len()).filter(|&i| MECHANISMS[i].escape);
         [Variant::Alvs, Variant::Paper, Variant::Lgmd2]
             .into_iter()
-            .chain(escape().map(Variant::Without))
+            .chain(escape().map(Variant::on_the_default))
             .chain(escape().map(Variant::With))
             .collect()
+    }
+
+    /// The default without `MECHANISMS[i]` if it runs it, with it if not.
+    pub fn on_the_default(i: usize) -> Variant {
+        if MECHANISMS[i].in_default() {
+            Variant::Without(i)
+        } else {
+            Variant::Plus(i)
+        }
     }
 
     /// The controller the tested robots run.
@@ -281,6 +334,7 @@ impl Variant {
             Variant::Alvs | Variant::Lgmd2 => Model::ALVS,
             Variant::Paper => Model::PAPER,
             Variant::Without(i) => MECHANISMS[i].removed_from(Model::ALVS),
+            Variant::Plus(i) => MECHANISMS[i].added_to(Model::ALVS),
             Variant::With(i) => MECHANISMS[i].added_to(Model::PAPER),
         }
     }
@@ -297,11 +351,28 @@ mod tests {
             .fold(Model::ALVS, |m, x| x.removed_from(m));
         assert_eq!(all_removed, Model::PAPER);
         let all_added = MECHANISMS.iter().fold(Model::PAPER, |m, x| x.added_to(m));
-        assert_eq!(all_added, Model::ALVS);
+        assert_eq!(all_added, Model::ALL);
+        let options = MECHANISMS.iter().filter(|m| !m.in_default());
+        assert_eq!(
+            options.fold(Model::ALL, |m, x| x.removed_from(m)),
+            Model::ALVS
+        );
         for m in &MECHANISMS {
-            assert_ne!(m.removed_from(Model::ALVS), Model::ALVS, "{}", m.name);
             assert_ne!(m.added_to(Model::PAPER), Model::PAPER, "{}", m.name);
+            assert_eq!(
+                m.added_to(Model::ALVS) == Model::ALVS,
+                m.in_default(),
+                "{}",
+                m.name
+            );
         }
+        // the options the ablation on the held-out seeds took out of the default
+        let off: Vec<&str> = MECHANISMS
+            .iter()
+            .filter(|m| !m.in_default())
+            .map(|m| m.name)
+            .collect();
+        assert_eq!(off, ["blocked", "adapt", "short-path", "short-near", "t-s"]);
     }
 
     #[test]
@@ -310,8 +381,13 @@ mod tests {
             assert_eq!(Variant::from_name(&v.name()), Ok(v));
         }
         assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(8)));
+        assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(2)));
         let e = Variant::from_name("alvs-wings").unwrap_err();
         assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");
         assert!(Variant::from_name("paper+").is_err());
+        let e = Variant::from_name("alvs-blocked").unwrap_err();
+        assert!(e.contains("alvs+blocked"), "{e}");
+        let e = Variant::from_name("alvs+floor").unwrap_err();
+        assert!(e.contains("alvs-floor"), "{e}");
     }
 }

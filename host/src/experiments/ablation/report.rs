@@ -1,6 +1,6 @@
 //! The ablation's report: per part (each arena perturbation, each evasion wall, two threats)
 //! one row per variant, seeds pooled, with the change from its reference (the default for
-//! `alvs-M`, the paper's model for `paper+M`); a table, JSON and a picture.
+//! `alvs-M` and `alvs+O`, the paper's model for `paper+M`); a table, JSON and a picture.
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -191,11 +191,11 @@ impl AblationReport {
         }
     }
 
-    /// The row a variant is compared with: the default for `alvs-M`, the paper's model for
+    /// The row a variant is compared with: the default for `alvs-M` and `alvs+O`, the paper's model for
     /// `paper+M` (when it ran).
     fn reference(&self, v: Variant) -> Option<usize> {
         let r = match v {
-            Variant::Without(_) => Variant::Alvs,
+            Variant::Without(_) | Variant::Plus(_) => Variant::Alvs,
             Variant::With(_) => Variant::Paper,
             _ => return None,
         };
@@ -311,7 +311,7 @@ impl Report for AblationReport {
         );
         let _ = writeln!(
             t,
-            "change: from the default (alvs-M) or the paper's model (paper+M); a mechanism earns its place where removing it makes the default worse"
+            "change: from the default (alvs-M, alvs+O) or the paper's model (paper+M); a mechanism earns its place where removing it makes the default worse, an option where adding it makes the default better"
         );
         for (p, part) in c.parts().iter().enumerate() {
             let _ = writeln!(t, "\n{}", self.part_title(part));
@@ -471,7 +471,8 @@ impl Report for AblationReport {
         }
         let _ = writeln!(t, "\nmechanisms:");
         for m in &MECHANISMS {
-            let _ = writeln!(t, "{:<16} {} ({})", m.name, m.what, m.fields);
+            let role = if m.in_default() { "default" } else { "option" };
+            let _ = writeln!(t, "{:<16} {:<8} {} ({})", m.name, role, m.what, m.fields);
         }
         t
     }
@@ -506,6 +507,7 @@ impl Report for AblationReport {
             "parts": parts,
             "mechanisms": MECHANISMS.iter().map(|m| serde_json::json!({
                 "name": m.name, "what": m.what, "fields": m.fields, "escape": m.escape,
+                "in_default": m.in_default(),
             })).collect::<Vec<_>>(),
             "wall_clock_s": self.wall_clock_s,
         })
@@ -525,7 +527,7 @@ impl AblationReport {
         let mut groups = vec!["model".to_string()];
         let mut pairs = vec![(index(Variant::Alvs), index(Variant::Paper))];
         for (i, m) in MECHANISMS.iter().enumerate() {
-            let pair = (index(Variant::Without(i)), index(Variant::With(i)));
+            let pair = (index(Variant::on_the_default(i)), index(Variant::With(i)));
             if pair != (None, None) {
                 groups.push(m.name.to_string());
                 pairs.push(pair);
@@ -533,7 +535,7 @@ impl AblationReport {
         }
         let series: Vec<(String, Rgb)> = vec![
             (
-                "the default (alvs), without the mechanism".into(),
+                "the default (alvs), without the mechanism (with the option)".into(),
                 colour_cycle(0),
             ),
             (
