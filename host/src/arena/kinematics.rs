@@ -36,6 +36,11 @@ pub const TRACK_MM: f64 = 48.0;
 pub const FRAME_RATE_HZ: f64 = 30.0;
 /// One camera frame, s.
 pub const FRAME_DT_S: f64 = 1.0 / FRAME_RATE_HZ;
+/// Camera frames in `minutes` of simulated time, at least one.
+pub fn frames_in(minutes: f64) -> u64 {
+    ((minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+}
+
 /// Physics steps per camera frame.
 pub const PHYSICS_SUBSTEPS: usize = 20;
 /// One physics step, s (1/600 s ≈ 1.67 ms).

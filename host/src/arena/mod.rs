@@ -44,7 +44,9 @@ pub use contacts::{
 pub use controller::{Command, Controller, Kind, Seen};
 pub use floor_pattern::FloorPattern;
 pub use gyro::{GyroParams, SimGyro};
-pub use kinematics::{MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM};
+pub use kinematics::{
+    frames_in, MotorParams, FRAME_DT_S, PHYSICS_DT_S, PHYSICS_SUBSTEPS, TRACK_MM,
+};
 pub use lighting::LightGradient;
 pub use physics::Physics;
 pub use render::{Camera, CameraMount, RenderOptions, Renderer, SensorNoise};

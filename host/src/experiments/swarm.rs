@@ -27,8 +27,8 @@ use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
 use crate::arena::controller::Scripted;
 use crate::arena::{
-    BuiltinWorld, GyroParams, Kind, MotorParams, Obstacle, Pose, Rng, SensorNoise, Sim, TopDown,
-    FRAME_DT_S,
+    frames_in, BuiltinWorld, GyroParams, Kind, MotorParams, Obstacle, Pose, Rng, SensorNoise, Sim,
+    TopDown, FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Plot, BLACK};
 
@@ -87,7 +87,7 @@ impl Default for SwarmConfig {
 impl SwarmConfig {
     /// Camera frames per trial.
     pub fn frames(&self) -> u64 {
-        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+        frames_in(self.minutes)
     }
 
     /// Camera frames of the whole run (for a progress bar).

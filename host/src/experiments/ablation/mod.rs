@@ -31,7 +31,7 @@ use super::parallel;
 use super::robustness::{PairedArena, Perturbation, REPORT_SEEDS};
 use super::sweep::{Shard, Sweep};
 use super::two_threats::{self, TwoThreatConfig};
-use crate::arena::{BuiltinWorld, FRAME_DT_S};
+use crate::arena::{frames_in, BuiltinWorld};
 
 /// The photograph among the default evasion walls: `outdoor_2`, the soft one, on which the
 /// default's blocked-way and floor tests were hardest (docs/experiments.md). All three
@@ -180,7 +180,7 @@ struct Prepared {
 impl AblationConfig {
     /// Camera frames of an arena trial.
     pub fn frames(&self) -> u64 {
-        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+        frames_in(self.minutes)
     }
 
     /// Every part, in the table's order: [`AblationConfig::seeded_parts`], then the clips.

@@ -58,7 +58,7 @@ impl Default for ArenaConfig {
 impl ArenaConfig {
     /// Camera frames per trial.
     pub fn frames(&self) -> u64 {
-        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+        frames_in(self.minutes)
     }
 
     /// Checks the configuration (backgrounds readable, robots placeable, ...); the error is one

@@ -48,8 +48,8 @@ use crate::arena::contacts::{
 };
 use crate::arena::world::ROBOT_RADIUS_MM;
 use crate::arena::{
-    Arena, BuiltinWorld, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other, Pose, Rng,
-    SensorNoise, Sim, SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
+    frames_in, Arena, BuiltinWorld, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other,
+    Pose, Rng, SensorNoise, Sim, SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
 };
 use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, RED, WHITE};
 

@@ -34,7 +34,7 @@ use alvs_tasks::Params;
 use super::arena::{self, Trial, TrialSetup};
 use super::parallel;
 use super::sweep::{Shard, Sweep};
-use crate::arena::{BuiltinWorld, Kind, Pose, SimOptions, World, FRAME_DT_S};
+use crate::arena::{frames_in, BuiltinWorld, Kind, Pose, SimOptions, World};
 
 pub use perturbation::*;
 pub use report::*;
@@ -195,7 +195,7 @@ impl PairedArena {
             label,
             seeds: seeds.to_vec(),
             starts,
-            frames: ((minutes * 60.0 / FRAME_DT_S).round() as u64).max(1),
+            frames: frames_in(minutes),
         })
     }
 
@@ -250,7 +250,7 @@ struct Prepared {
 impl RobustnessConfig {
     /// Camera frames per trial.
     pub fn frames(&self) -> u64 {
-        ((self.minutes * 60.0 / FRAME_DT_S).round() as u64).max(1)
+        frames_in(self.minutes)
     }
 
     /// Trials in the plan: (perturbation, controller, seed), perturbation-major.
