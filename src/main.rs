@@ -53,6 +53,7 @@ mod app {
     use crate::{bench, camera, setup, BOOT_BEHAVIOUR, RTT_DROPPED, TELEMETRY_QUEUE};
     use alvs_tasks::model::fsm::{Behaviour, FsmParams};
     use alvs_tasks::model::movers::Movers;
+    use alvs_tasks::model::param_table::off0;
     use alvs_tasks::robot::camera::{Counters, FrameEnd};
     use alvs_tasks::robot::control::Control;
     use alvs_tasks::robot::health::{
@@ -178,17 +179,17 @@ mod app {
         });
         rprintln!(
             "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
-            alvs_tasks::Params::ALVS.t_a,
-            alvs_tasks::Params::ALVS.t_d,
-            alvs_tasks::Params::ALVS.t_s,
-            alvs_tasks::Params::ALVS.warmup,
-            alvs_tasks::Params::ALVS.flicker_pct,
-            alvs_tasks::Params::ALVS.derotate,
-            alvs_tasks::Params::ALVS.q_arms,
-            alvs_tasks::Params::ALVS.q_grow_pct,
-            alvs_tasks::Params::ALVS.t_a_quiet,
-            alvs_tasks::Params::ALVS.band_row,
-            alvs_tasks::Params::ALVS.floor_row,
+            alvs_tasks::Params::ALVS.table1.t_a,
+            alvs_tasks::Params::ALVS.table1.t_d,
+            alvs_tasks::Params::ALVS.table1.t_s,
+            off0(alvs_tasks::Params::ALVS.mechanisms.warmup),
+            off0(alvs_tasks::Params::ALVS.mechanisms.flicker_pct),
+            u8::from(alvs_tasks::Params::ALVS.efference.derotate),
+            alvs_tasks::Params::ALVS.choices.q_arms,
+            off0(alvs_tasks::Params::ALVS.mechanisms.q_grow_pct),
+            off0(alvs_tasks::Params::ALVS.mechanisms.t_a_quiet),
+            off0(alvs_tasks::Params::ALVS.efference.band_row),
+            off0(alvs_tasks::Params::ALVS.efference.floor_row),
             FsmParams::ALVS.escape_saccade,
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES,
@@ -324,7 +325,11 @@ mod app {
         let enable = cx.shared.safety.lock(|s| s.motors_allowed());
         let movers = cx.local.movers;
         let (command, frames, turn, forward) = cx.shared.control.lock(|c| {
-            let look = Some((&mut *movers, network.frame(), network.params().look_change));
+            let look = Some((
+                &mut *movers,
+                network.frame(),
+                off0(network.params().swarm.look_change),
+            ));
             let (command, frames) = c.step_seeing(&p.vm, look, enable);
             (command, frames, c.last_turn_deg(), c.last_forward_mm_s())
         });

@@ -3,7 +3,9 @@
 
 use alvs_host::arena::render::Renderer;
 use alvs_host::arena::world::{Pose, WallTexture, World};
+use alvs_tasks::model::params::{Efference, Mechanisms, ShortGates};
 use alvs_tasks::{Network, Params};
+use core::num::NonZeroU8;
 
 /// Mean `on + off` of the newest means, grey levels per pixel.
 fn change(net: &Network) -> f64 {
@@ -22,7 +24,10 @@ fn turn(derotate: u8, deg_s: f64, texture: &str) -> (f64, u32, u32) {
     let world = World::with_texture(WallTexture::from_spec(texture).unwrap());
     let r = Renderer::new(&world);
     let mut net = Network::new(Params {
-        derotate,
+        efference: Efference {
+            derotate: derotate != 0,
+            ..Params::ALVS.efference
+        },
         ..Params::ALVS
     })
     .unwrap();
@@ -57,7 +62,7 @@ fn a_turn_in_place_leaves_a_fraction_of_its_motion_signal() {
             assert!(p1 < p0 / 10, "{tex} {rate}: ΣLPLC2 {p0} -> {p1}");
             assert!(a0 >= 24, "without it the turn alerts: {a0}");
             if tex == "clutter:1" && rate <= 180.0 {
-                assert!(p1 < Params::ALVS.t_s, "no short mode: {p1}");
+                assert!(p1 < Params::ALVS.table1.t_s, "no short mode: {p1}");
             }
         }
     }
@@ -145,7 +150,10 @@ fn a_quiet_scene_lowers_the_attention_threshold() {
     };
     let quiet = first_alert(Params::ALVS).expect("alerts");
     let table_i = first_alert(Params {
-        t_a_quiet: 0,
+        mechanisms: Mechanisms {
+            t_a_quiet: None,
+            ..Params::ALVS.mechanisms
+        },
         ..Params::ALVS
     })
     .expect("alerts");
@@ -171,10 +179,16 @@ fn looming(cx: usize, cy: usize, forward_mm_s: f32) -> (u32, u32) {
 fn looming_with(cx: usize, cy: usize, forward_mm_s: f32, short_row: u8) -> (u32, u32) {
     use alvs_tasks::{HEIGHT, PIXELS, WIDTH};
     let mut net = Network::new(Params {
-        band_row: 27,
-        floor_row: 0,
-        short_cols: 23,
-        short_row,
+        efference: Efference {
+            band_row: NonZeroU8::new(27),
+            floor_row: None,
+            ..Params::ALVS.efference
+        },
+        short: ShortGates {
+            short_cols: NonZeroU8::new(23),
+            short_row: NonZeroU8::new(short_row),
+            ..Params::ALVS.short
+        },
         ..Params::ALVS
     })
     .unwrap();
@@ -275,7 +289,10 @@ fn drive_at_wall(
     let world = World::with_texture(WallTexture::from_spec("plain:200").unwrap());
     let r = Renderer::new(&world);
     let mut net = Network::new(Params {
-        floor_row,
+        efference: Efference {
+            floor_row: NonZeroU8::new(floor_row),
+            ..Params::ALVS.efference
+        },
         ..Params::ALVS
     })
     .unwrap();

@@ -14,6 +14,7 @@ use alvs_tasks::model::fsm::{FsmParams, State};
 use alvs_tasks::Params;
 
 mod common;
+use alvs_tasks::model::params::Efference;
 use common::{alvs, read_json, succeed};
 
 /// The one trial of a swarm run with a single controller (on 2 threads).
@@ -412,8 +413,11 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
         let config = SwarmConfig {
             controllers: vec![Kind::Swarm],
             params: Params {
-                band_row: 0,
-                floor_row: 0,
+                efference: Efference {
+                    band_row: None,
+                    floor_row: None,
+                    ..Params::default().efference
+                },
                 ..Params::default()
             },
             fsm: FsmParams {

@@ -6,14 +6,19 @@
 //! gradients) so that cases stay cheap and shrink to readable counterexamples. Failures are
 //! not persisted to disk (the seed is printed instead).
 
+use alvs_tasks::model::param_table::off0;
 use std::cell::Cell;
 
 use alvs_tasks::model::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::floor::nearest_foot;
 use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::model::network::DRIVING_MM_S;
+use alvs_tasks::model::params::{
+    Choices, Efference, FirmwareVariant, Mechanisms, ShortGates, SwarmLook, TableOne,
+};
 use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
 use alvs_tasks::{Network, ParamError, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
+use core::num::{NonZeroU32, NonZeroU8};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 
@@ -247,40 +252,54 @@ fn valid_params() -> impl Strategy<Value = Params> {
             (band_row, floor_row, short_cols, short_row, look_change),
             (max_fields, t_lplc2, strict_retire, opponent),
         )| Params {
-            w,
-            n,
-            r_af,
-            t_a,
-            t_d,
-            d,
-            w_s,
-            alpha,
-            t_s,
-            c_d,
-            s: s.min(MAX_REACH / n),
-            gain,
-            lm_shift,
-            r_c,
-            c_frac,
-            q_floor,
-            q_balance,
-            q_arms,
-            warmup,
-            flicker_pct,
-            blocked_change,
-            derotate,
-            adapt_frames,
-            q_grow_pct,
-            t_a_quiet,
-            band_row,
-            floor_row,
-            short_cols,
-            short_row,
-            look_change,
-            max_fields,
-            t_lplc2,
-            strict_retire,
-            opponent,
+            table1: TableOne {
+                w,
+                n,
+                r_af,
+                t_a,
+                t_d,
+                d,
+                w_s,
+                alpha,
+                t_s,
+            },
+            choices: Choices {
+                c_d,
+                s: s.min(MAX_REACH / n),
+                gain,
+                lm_shift,
+                r_c,
+                c_frac,
+                q_floor,
+                q_balance,
+                q_arms,
+            },
+            mechanisms: Mechanisms {
+                warmup: NonZeroU8::new(warmup),
+                flicker_pct: NonZeroU8::new(flicker_pct),
+                q_grow_pct: NonZeroU8::new(q_grow_pct),
+                t_a_quiet: NonZeroU32::new(t_a_quiet),
+            },
+            efference: Efference {
+                blocked_change: NonZeroU8::new(blocked_change),
+                derotate: derotate != 0,
+                band_row: NonZeroU8::new(band_row),
+                floor_row: NonZeroU8::new(floor_row),
+            },
+            short: ShortGates {
+                adapt_frames: NonZeroU8::new(adapt_frames),
+                short_cols: NonZeroU8::new(short_cols),
+                short_row: NonZeroU8::new(short_row),
+            },
+            swarm: SwarmLook {
+                look_change: NonZeroU8::new(look_change),
+            },
+            firmware: FirmwareVariant {
+                max_fields,
+                t_lplc2: NonZeroU32::new(t_lplc2),
+                strict_retire,
+                opponent,
+            },
         },
     );
     prop_oneof![
@@ -310,7 +329,11 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     let vm = &out.vm;
     let ctx = || format!("frame {index}: {out:?}");
     prop_assert_eq!(out.frame as usize, index);
-    prop_assert!(out.afs.len() <= usize::from(p.max_fields), "{}", ctx());
+    prop_assert!(
+        out.afs.len() <= usize::from(p.firmware.max_fields),
+        "{}",
+        ctx()
+    );
     if index == 0 {
         // the priming frame never alerts (its `strength` is not a sigmoid value: see the report)
         prop_assert!(
@@ -328,7 +351,9 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     // `Params::band_row`: driving, no field centred above the band responds
     if driving {
         prop_assert!(
-            out.afs.iter().all(|a| a.y >= p.band_row || a.lplc2 == 0),
+            out.afs
+                .iter()
+                .all(|a| a.y >= off0(p.efference.band_row) || a.lplc2 == 0),
             "{}",
             ctx()
         );
@@ -348,14 +373,22 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         // above the floor (all four with the paper's gate); with `t_lplc2`, zero or a mean
         // over frames above it
         let sum = af.quadrants.iter().fold(0u32, |a, &q| a.saturating_add(q));
-        if p.t_lplc2 > 0 {
-            prop_assert!(af.lplc2 == 0 || af.lplc2 > p.t_lplc2, "{}", ctx());
+        if off0(p.firmware.t_lplc2) > 0 {
+            prop_assert!(
+                af.lplc2 == 0 || af.lplc2 > off0(p.firmware.t_lplc2),
+                "{}",
+                ctx()
+            );
         } else {
             prop_assert!(af.lplc2 == 0 || af.lplc2 == sum, "{}", ctx());
         }
-        if af.lplc2 > 0 && p.t_lplc2 == 0 {
-            let excited = af.quadrants.iter().filter(|&&q| q > p.q_floor).count();
-            prop_assert!(excited >= usize::from(p.q_arms), "{}", ctx());
+        if af.lplc2 > 0 && off0(p.firmware.t_lplc2) == 0 {
+            let excited = af
+                .quadrants
+                .iter()
+                .filter(|&&q| q > p.choices.q_floor)
+                .count();
+            prop_assert!(excited >= usize::from(p.choices.q_arms), "{}", ctx());
         }
     }
     let total = out.afs.iter().fold(0u32, |a, f| a.saturating_add(f.lplc2));
@@ -365,14 +398,14 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     // an alert comes from the fields, or else from the floor line of a driving robot
     let floor_alert = vm.alert && vm.lplc2_sum == 0;
     prop_assert!(
-        !floor_alert || (driving && p.floor_row > 0 && !vm.short_mode),
+        !floor_alert || (driving && off0(p.efference.floor_row) > 0 && !vm.short_mode),
         "{}",
         ctx()
     );
     prop_assert!(vm.alert || vm.lplc2_sum == 0, "{}", ctx());
     // the floor line reports only for a driving robot
     prop_assert!(
-        vm.obstacle.is_none() || (driving && p.floor_row > 0),
+        vm.obstacle.is_none() || (driving && off0(p.efference.floor_row) > 0),
         "{}",
         ctx()
     );
@@ -380,16 +413,16 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
     if vm.alert && vm.lplc2_sum == 0 {
         prop_assert_eq!(vm.obstacle, vm.theta_short.map(|[t1, _]| t1), "{}", ctx());
     }
-    let in_path = |x: f32| (x - 49.0).abs() <= f32::from(p.short_cols);
-    let off_path = driving && p.short_cols > 0 && !vm.threat_x.is_some_and(in_path);
+    let in_path = |x: f32| (x - 49.0).abs() <= f32::from(off0(p.short.short_cols));
+    let off_path = driving && off0(p.short.short_cols) > 0 && !vm.threat_x.is_some_and(in_path);
     // a driving robot's threat whose foot is far (`Params::short_row`) is not imminent either
-    let far_gate = driving && p.short_row > 0;
-    if p.adapt_frames == 0 && !off_path && !far_gate {
-        prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{}", ctx());
+    let far_gate = driving && off0(p.short.short_row) > 0;
+    if off0(p.short.adapt_frames) == 0 && !off_path && !far_gate {
+        prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.table1.t_s, "{}", ctx());
     } else {
         // motion adaptation, a threat off the path of a driving robot (`Params::short_cols`)
         // and one far ahead of it (`Params::short_row`) can only hold the short mode back
-        prop_assert!(!vm.short_mode || vm.lplc2_sum > p.t_s, "{}", ctx());
+        prop_assert!(!vm.short_mode || vm.lplc2_sum > p.table1.t_s, "{}", ctx());
         prop_assert!(!vm.short_mode || !off_path, "{}", ctx());
     }
     prop_assert!(!vm.short_mode || vm.alert, "{}", ctx());
@@ -420,7 +453,7 @@ fn check(p: &Params, index: usize, out: &Perception, driving: bool) -> Result<()
         // Eq. (13): turn to face away from the threat
         let long = vm.theta_long.unwrap();
         prop_assert!(in_half_open_circle(long), "{}", ctx());
-        let expect = p.alpha * (x - 49.0) + 180.0;
+        let expect = p.table1.alpha * (x - 49.0) + 180.0;
         prop_assert!(
             same_angle(long, expect, 1e-2),
             "{} vs {}: {}",
@@ -480,7 +513,7 @@ fn outputs_stay_bounded_and_consistent() {
                 let driving = i % 4 != 0;
                 net.driving(if driving { 150.0 } else { turn });
                 let driving = driving || turn > 20.0;
-                if p.derotate == 1 && !(turn.is_finite() && turn.abs() <= MAX_TURN_DEG) {
+                if p.efference.derotate && !(turn.is_finite() && turn.abs() <= MAX_TURN_DEG) {
                     k = 0;
                 }
                 let out = net.step(f);
@@ -488,10 +521,10 @@ fn outputs_stay_bounded_and_consistent() {
                 // `Params::short_row`: a driving robot's short mode has its foot close enough
                 // (the network drives when told more than DRIVING_MM_S: 150, or the turn)
                 let told = if i % 4 != 0 { 150.0 } else { turn };
-                if told > DRIVING_MM_S && p.short_row > 0 && out.vm.short_mode {
+                if told > DRIVING_MM_S && off0(p.short.short_row) > 0 && out.vm.short_mode {
                     let x = out.vm.threat_x.map_or(0, |x| x as u8);
                     prop_assert!(
-                        nearest_foot(f, x).is_some_and(|row| row >= p.short_row),
+                        nearest_foot(f, x).is_some_and(|row| row >= off0(p.short.short_row)),
                         "frame {i}: {:?}",
                         out.vm
                     );
@@ -571,11 +604,17 @@ fn the_field_capacity_is_reached_but_never_exceeded() {
     );
     let result = runner.run(&strategy, |(r, d, seeds)| {
         let p = Params {
-            r_af: r,
-            r_c: r,
-            t_a: 0,
-            t_d: 0,
-            d,
+            table1: TableOne {
+                r_af: r,
+                t_a: 0,
+                t_d: 0,
+                d,
+                ..Params::default().table1
+            },
+            choices: Choices {
+                r_c: r,
+                ..Params::default().choices
+            },
             ..Params::default()
         };
         let mut net = Network::new(p).unwrap();
@@ -693,33 +732,33 @@ impl Bad {
         match *self {
             Bad::F32(name, v) => {
                 match name {
-                    "w" => p.w = v,
-                    "w_s" => p.w_s = v,
-                    "alpha" => p.alpha = v,
-                    _ => p.c_d = v,
+                    "w" => p.table1.w = v,
+                    "w_s" => p.table1.w_s = v,
+                    "alpha" => p.table1.alpha = v,
+                    _ => p.choices.c_d = v,
                 }
                 name
             }
             Bad::U8(name, v) => {
                 match name {
-                    "n" => p.n = v,
-                    "r_af" => p.r_af = v,
-                    "r_c" => p.r_c = v,
-                    "c_frac" => p.c_frac = v,
-                    "q_balance" => p.q_balance = v,
-                    "q_arms" => p.q_arms = v,
-                    "d" => p.d = v,
-                    "s" => p.s = v,
-                    "gain" => p.gain = v,
-                    "flicker_pct" => p.flicker_pct = v,
-                    "max_fields" => p.max_fields = v,
-                    _ => p.lm_shift = v,
+                    "n" => p.table1.n = v,
+                    "r_af" => p.table1.r_af = v,
+                    "r_c" => p.choices.r_c = v,
+                    "c_frac" => p.choices.c_frac = v,
+                    "q_balance" => p.choices.q_balance = v,
+                    "q_arms" => p.choices.q_arms = v,
+                    "d" => p.table1.d = v,
+                    "s" => p.choices.s = v,
+                    "gain" => p.choices.gain = v,
+                    "flicker_pct" => p.mechanisms.flicker_pct = NonZeroU8::new(v),
+                    "max_fields" => p.firmware.max_fields = v,
+                    _ => p.choices.lm_shift = v,
                 }
                 name
             }
             Bad::Reach(n, s) => {
-                p.n = n;
-                p.s = s;
+                p.table1.n = n;
+                p.choices.s = s;
                 "s"
             }
         }
@@ -746,7 +785,9 @@ fn invalid_parameters_are_refused() {
         let name = bad.apply(&mut p);
         let refused = |r: Result<(), ParamError>| match r {
             Err(ParamError::OutOfRange { name: n, .. })
-            | Err(ParamError::OutOfRangeReal { name: n, .. }) => n == name,
+            | Err(ParamError::OutOfRangeReal { name: n, .. }) => {
+                Params::position(n) == Params::position(name)
+            }
             _ => false,
         };
         prop_assert!(refused(p.validate()), "{:?}: {:?}", p, p.validate());
@@ -762,8 +803,8 @@ fn invalid_parameters_are_refused() {
         // through the text interface (n·s > reach is refused on `s` when `n` is set first)
         let mut q = good;
         if let Bad::Reach(n, _) = bad {
-            q.n = n;
-            q.s = 1;
+            q.table1.n = n;
+            q.choices.s = 1;
         }
         let before = q;
         let r = q.set(name, &bad.text());
@@ -870,10 +911,24 @@ fn params_set_accepts_only_valid_text() {
         }
     }
     assert_eq!(
-        (p.r_af, p.c_frac, p.d, p.lm_shift, p.q_balance, p.q_arms),
+        (
+            p.table1.r_af,
+            p.choices.c_frac,
+            p.table1.d,
+            p.choices.lm_shift,
+            p.choices.q_balance,
+            p.choices.q_arms
+        ),
         (99, 100, MAX_D, 24, 100, 4)
     );
-    assert_eq!((p.warmup, p.flicker_pct, p.blocked_change), (255, 100, 255));
+    assert_eq!(
+        (
+            off0(p.mechanisms.warmup),
+            off0(p.mechanisms.flicker_pct),
+            off0(p.efference.blocked_change)
+        ),
+        (255, 100, 255)
+    );
     // each name sets its own field
     let mut q = Params::default();
     q.set("q_arms", "3").unwrap();
@@ -883,17 +938,17 @@ fn params_set_accepts_only_valid_text() {
     q.set("blocked_change", "6").unwrap();
     assert_eq!(
         (
-            q.q_arms,
-            q.q_balance,
-            q.warmup,
-            q.flicker_pct,
-            q.blocked_change
+            q.choices.q_arms,
+            q.choices.q_balance,
+            off0(q.mechanisms.warmup),
+            off0(q.mechanisms.flicker_pct),
+            off0(q.efference.blocked_change)
         ),
         (3, 40, 7, 60, 6)
     );
     for t in [0u32, 1, 7000, u32::MAX] {
         assert_eq!(p.set("t_s", &t.to_string()), Ok(()));
-        assert_eq!(p.t_s, t);
+        assert_eq!(p.table1.t_s, t);
     }
 }
 
@@ -904,18 +959,24 @@ fn params_set_accepts_only_valid_text() {
 #[test]
 fn threat_centroid_survives_saturated_responses() {
     let p = Params {
-        w: 4.0,
-        gain: 16,
-        lm_shift: 0,
-        n: 4,
-        s: 2,
-        r_af: 10,
-        r_c: 10,
-        t_a: 0,
-        t_d: 0,
-        q_floor: 0,
-        q_balance: 0,
-        c_d: 1.0,
+        table1: TableOne {
+            w: 4.0,
+            n: 4,
+            r_af: 10,
+            t_a: 0,
+            t_d: 0,
+            ..Params::default().table1
+        },
+        choices: Choices {
+            gain: 16,
+            lm_shift: 0,
+            s: 2,
+            r_c: 10,
+            q_floor: 0,
+            q_balance: 0,
+            c_d: 1.0,
+            ..Params::default().choices
+        },
         ..Params::default()
     };
     let mut net = Network::new(p).unwrap();

@@ -6,6 +6,7 @@
 use alvs_host::replay::{FrameJson, Pipeline};
 use alvs_host::{clip, data};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
+use alvs_tasks::model::param_table::off0;
 use alvs_tasks::{Frame, Network, Params, WIDTH};
 
 struct Run {
@@ -234,9 +235,9 @@ fn whole_field_luminance_changes_never_alert() {
 #[test]
 fn no_alert_while_the_history_fills_after_a_start_or_a_torn_frame() {
     let p = Params::default();
-    let warmup = usize::from(p.warmup);
+    let warmup = usize::from(off0(p.mechanisms.warmup));
     assert!(
-        warmup >= usize::from(p.d),
+        warmup >= usize::from(p.table1.d),
         "the warm-up covers Eq. (10)'s d frames"
     );
     let mut early = Vec::new();

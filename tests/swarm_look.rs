@@ -31,7 +31,7 @@ fn first_look(world: &World, others: impl Fn(usize) -> Vec<Pose>) -> Sighting {
     let r = Renderer::new(world);
     let mut cam = Camera::new(SensorNoise::typical(), 7);
     let mut movers = Movers::new();
-    let change = Params::default().look_change;
+    let change = alvs_tasks::model::param_table::off0(Params::default().swarm.look_change);
     let mut frame = [0u8; alvs_tasks::PIXELS];
     for i in 0..usize::from(SETTLE_FRAMES + SPAN_FRAMES) {
         let mut bodies = vec![eye()];

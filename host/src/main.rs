@@ -513,7 +513,8 @@ struct CommonArgs {
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
-    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
+    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
+    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
@@ -710,7 +711,8 @@ struct ArenaArgs {
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
-    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
+    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
+    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
     /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
     /// floor_row short_cols short_row.
@@ -736,7 +738,8 @@ struct ModelArgs {
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
-    /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120.
+    /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
+    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
     /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
     /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
     /// floor_row short_cols short_row.

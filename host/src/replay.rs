@@ -1,6 +1,7 @@
 //! Replay: the exact `alvs-tasks` perception and motor-control code run on recorded frames,
 //! one JSON object per frame, and the pictures a researcher looks at.
 
+use alvs_tasks::model::param_table::off0;
 use std::path::{Path, PathBuf};
 
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry};
@@ -79,7 +80,11 @@ impl Pipeline {
     pub fn step(&mut self, frame: &Frame) -> (Perception, FrameJson) {
         let mut out = self.net.step(frame);
         if let Some(m) = &mut self.movers {
-            out.vm.sighting = m.step(frame, self.standing, self.net.params().look_change);
+            out.vm.sighting = m.step(
+                frame,
+                self.standing,
+                off0(self.net.params().swarm.look_change),
+            );
         }
         let cmd = self.fsm.step(&out.vm, self.odometry.heading_deg());
         self.standing = cmd.stands();
@@ -132,7 +137,7 @@ pub fn layer_sheet(frame: &Frame, net: &Network, out: &Perception) -> Canvas {
         ("L_OFF".into(), grey_map(&off, WIDTH, HEIGHT, SCALE)),
     ];
     let mut s = grey_map(&sal, WIDTH, HEIGHT, SCALE);
-    let r = i32::from(net.params().r_af);
+    let r = i32::from(net.params().table1.r_af);
     for (k, a) in out.afs.iter().enumerate() {
         let c = colour_cycle(k);
         let (x, y) = (i32::from(a.x), i32::from(a.y));
@@ -272,7 +277,7 @@ pub fn run(
         let path = dir.join(format!("{name}_trace.png"));
         trace_plot(
             &records,
-            params.t_s,
+            params.table1.t_s,
             &format!("{name}: LPLC2 per attention field"),
         )
         .save_png(&path)

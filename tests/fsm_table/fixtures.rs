@@ -32,7 +32,7 @@ pub(crate) fn short(x: u8) -> Visuomotor {
 
 /// Absolute bearing of a threat at column `x` seen from heading `h`.
 pub(crate) fn threat_abs(x: u8, h: f32) -> f32 {
-    wrap_deg(h + bearing(f32::from(x), Params::default().alpha))
+    wrap_deg(h + bearing(f32::from(x), Params::default().table1.alpha))
 }
 
 pub(crate) fn err(a: f32, b: f32) -> f32 {

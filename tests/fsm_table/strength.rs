@@ -35,7 +35,7 @@ fn escape_speeds(live: u32) -> [f32; 3] {
 #[test]
 fn the_escape_runs_at_the_latched_strength_unless_it_is_live() {
     let max = FsmParams::default().max_escape_mm_s;
-    let latched = strength(LONG_R, Params::default().w_s) * max;
+    let latched = strength(LONG_R, Params::default().table1.w_s) * max;
     for v in escape_speeds(0) {
         assert!((v - latched).abs() < 0.1, "{v} vs {latched}");
     }
@@ -44,14 +44,14 @@ fn the_escape_runs_at_the_latched_strength_unless_it_is_live() {
     let [a, b, c] = escape_speeds(1);
     assert!((a - latched).abs() < 0.1, "{a}");
     assert!((b - 0.5 * max).abs() < 0.1, "{b}");
-    let weak = strength(2000, Params::default().w_s) * max;
+    let weak = strength(2000, Params::default().table1.w_s) * max;
     assert!((c - weak).abs() < 0.1 && c > b, "{c}");
 }
 
 #[test]
 fn a_live_strength_of_2_also_sets_the_retreat_speed() {
     let retreat = FsmParams::default().retreat_mm_s;
-    let s_short = strength(SHORT_R, Params::default().w_s);
+    let s_short = strength(SHORT_R, Params::default().table1.w_s);
     for (live, s) in [(0, s_short), (1, s_short), (2, 0.5)] {
         let mut f = with_live(live);
         f.step(&quiet(), 0.0);
@@ -74,7 +74,7 @@ fn a_suppressed_frame_keeps_the_strength() {
     // saccadic suppression on (45°/s) against off: the escape steers back from 30° off its
     // set-point at 4 · 30 = 120°/s, so the next frame's perception is ignored and S stays
     let max = FsmParams::default().max_escape_mm_s;
-    let w_s = Params::default().w_s;
+    let w_s = Params::default().table1.w_s;
     for (saccade, s) in [(45.0, 0.5), (f32::INFINITY, strength(2000, w_s))] {
         let mut f = Fsm::new(
             FsmParams {

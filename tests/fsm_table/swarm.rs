@@ -1,6 +1,7 @@
 //! The swarm variant: spin in place on approach.
 
 use super::*;
+use alvs_tasks::model::param_table::off0;
 
 #[test]
 fn swarm_spins_in_place_and_never_escapes() {
@@ -168,7 +169,7 @@ fn the_default_swarm_finds_a_mover_behind_it_by_looking_round() {
             }
         }
         let vm = Visuomotor {
-            sighting: movers.step(&frame, standing, Params::default().look_change),
+            sighting: movers.step(&frame, standing, off0(Params::default().swarm.look_change)),
             ..quiet()
         };
         let c = f.step(&vm, h);

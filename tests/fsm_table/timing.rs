@@ -7,7 +7,7 @@ fn escape_strength_is_latched_at_the_trigger() {
     let (mut f, sp) = in_escape(0.0);
     let s = long(RIGHT_X).strength;
     // a stronger (but not short-mode) alert during the minimum escape changes nothing
-    let stronger = threat(LEFT_X, Params::default().t_s - 500);
+    let stronger = threat(LEFT_X, Params::default().table1.t_s - 500);
     assert!(!stronger.short_mode && stronger.strength > s);
     let c = f.step(&stronger, sp);
     assert!(((c.left_mm_s + c.right_mm_s) / 2.0 - s * 200.0).abs() < 1e-2);

@@ -3,6 +3,8 @@
 
 use super::*;
 use alvs_host::scenes::{demo_scenes, Scene, Square};
+use alvs_tasks::model::param_table::off0;
+use alvs_tasks::model::params::FirmwareVariant;
 
 /// The demo's three squares approaching at once (paper Fig. 3's triple approach): the paper's
 /// model opens a field on each, the firmware's never has more than one alive, nor does the
@@ -28,7 +30,10 @@ fn the_firmware_keeps_one_attention_field() {
     assert_eq!(most(Params::PAPER), 3);
     assert!(most(Params::FIRMWARE) <= 1);
     let one = Params {
-        max_fields: 1,
+        firmware: FirmwareVariant {
+            max_fields: 1,
+            ..Params::PAPER.firmware
+        },
         ..Params::PAPER
     };
     assert_eq!(most(one), 1);
@@ -69,11 +74,15 @@ fn the_firmware_alerts_on_its_four_frame_mean() {
     assert_eq!(first, opened + 2, "{opened} {first}");
     // before: a field whose gate opened, not yet stimulated
     let f = &outs[opened].afs[0];
-    let excited = f.quadrants.iter().filter(|&&q| q > p.q_floor).count();
+    let excited = f
+        .quadrants
+        .iter()
+        .filter(|&&q| q > p.choices.q_floor)
+        .count();
     assert!(excited >= 3 && f.lplc2 == 0, "{f:?}");
     // at the alert: the field passes on its mean, above T_LPLC2, and that is ΣLPLC2
     let a = &outs[first];
-    assert!(a.afs[0].lplc2 > p.t_lplc2, "{a:?}");
+    assert!(a.afs[0].lplc2 > off0(p.firmware.t_lplc2), "{a:?}");
     assert_eq!(a.vm.lplc2_sum, a.afs[0].lplc2);
     // the mean of 4 responses, three of them this field's (the frame before its birth counts 0)
     let responses: u32 = (opened..=first)

@@ -94,7 +94,7 @@ pub(crate) fn check_approach(name: &str, outs: &[Perception], obj: &Looming, n: 
             assert!((x - CENTRE).abs() <= 10.0 && long.abs() >= 172.9, "{at}");
         }
         assert!(vm.strength > 0.5 && vm.strength <= 1.0, "{at}");
-        assert_eq!(vm.short_mode, vm.lplc2_sum > p.t_s, "{at}");
+        assert_eq!(vm.short_mode, vm.lplc2_sum > p.table1.t_s, "{at}");
     }
 }
 

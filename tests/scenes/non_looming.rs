@@ -1,6 +1,8 @@
 //! Non-looming motion and disturbances: never an alert.
 
 use super::*;
+use alvs_tasks::model::params::ShortGates;
+use core::num::NonZeroU8;
 
 /// Squares shrinking 18 → 2 px in half size: dark on light and over texture at 1 px/frame,
 /// bright on dark at 2 px/frame, at the left, centre and right.
@@ -200,7 +202,10 @@ fn a_steady_stimulus_adapts_out_of_short_mode() {
     };
     let (paper, paper_alerts) = short(Params::PAPER);
     let (adapted, alvs_alerts) = short(Params {
-        adapt_frames: 30,
+        short: ShortGates {
+            adapt_frames: NonZeroU8::new(30),
+            ..Params::default().short
+        },
         ..Params::default()
     });
     println!(

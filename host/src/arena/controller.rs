@@ -4,6 +4,7 @@
 
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, State};
 use alvs_tasks::model::movers::Movers;
+use alvs_tasks::model::param_table::off0;
 use alvs_tasks::model::visuomotor::wrap_deg;
 use alvs_tasks::{Frame, Network, Params};
 
@@ -139,8 +140,8 @@ impl Controller for AlvsController {
         }
         let mut out = self.net.step(frame);
         if self.swarm {
-            let change = self.net.params().look_change;
-            out.vm.sighting = self.movers.step(frame, self.standing, change);
+            let change = self.net.params().swarm.look_change;
+            out.vm.sighting = self.movers.step(frame, self.standing, off0(change));
         }
         let cmd = self.fsm.step(&out.vm, heading_deg);
         // the efference copies of forward motion and of standing for the next frame

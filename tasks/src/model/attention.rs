@@ -41,14 +41,14 @@ pub const BUSY_PCT: u32 = 10;
 /// as photoreceptor and lamina gain rise in a quiet, low-contrast scene). `T_a` when the
 /// mechanism is off (0) or not below `T_a`.
 pub fn spawn_threshold((on, off, sampled): (u32, u32, u32), p: &Params) -> u32 {
-    let quiet = p.t_a_quiet;
-    if quiet == 0 || quiet >= p.t_a {
-        return p.t_a;
+    let quiet = crate::model::param_table::off0(p.mechanisms.t_a_quiet);
+    if quiet == 0 || quiet >= p.table1.t_a {
+        return p.table1.t_a;
     }
     // `sampled · BUSY_PCT` ≤ 1,782 · 10: no overflow
     let busy = (sampled * BUSY_PCT).div_ceil(100).max(1);
     let share = on.max(off).min(busy);
-    quiet + ((u64::from(p.t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
+    quiet + ((u64::from(p.table1.t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
 }
 
 /// One attention field.
@@ -228,16 +228,16 @@ impl Fields {
     /// raster order with a strict `>` (so ties still go to the first pixel), with no per-pixel
     /// containment test.
     pub fn spawn(&mut self, m: &Maps, w: &Weights, p: &Params) -> Option<u32> {
-        self.spawn_above(m, w, p, p.t_a)
+        self.spawn_above(m, w, p, p.table1.t_a)
     }
 
     /// [`Fields::spawn`] with the threshold `t_a` in place of `p.t_a` ([`spawn_threshold`]).
     pub fn spawn_above(&mut self, m: &Maps, w: &Weights, p: &Params, t_a: u32) -> Option<u32> {
         // `Params::max_fields`: no new field while that many live
-        if self.list.is_full() || self.list.len() >= usize::from(p.max_fields) {
+        if self.list.is_full() || self.list.len() >= usize::from(p.firmware.max_fields) {
             return None;
         }
-        let r = usize::from(p.r_af);
+        let r = usize::from(p.table1.r_af);
         let mut best = (0u32, 0usize, 0usize);
         // covered columns of a row as half-open intervals, sorted by start (`cov[..k]` is
         // rewritten for every row; kept out of the loop so it is not cleared per row)
@@ -323,7 +323,7 @@ impl Fields {
             dsp::uxtab16((t >> 6) & 0x03FC_03FC, t)
         };
         for f in self.list.iter_mut() {
-            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            let ((x0, x1), (y0, y1)) = f.square(p.choices.r_c.min(p.table1.r_af));
             let (mut peak2, mut peak) = (0u32, 0u32);
             for y in y0..=y1 {
                 let i = y * WIDTH;
@@ -337,7 +337,7 @@ impl Fields {
             }
             let peak = peak.max(peak2 & 0xFFFF).max(peak2 >> 16);
             // 1 ≤ ⌈peak·c_frac/100⌉ ≤ peak ≤ 1275 (or 1): a 16-bit lane
-            let floor = (peak * u32::from(p.c_frac)).div_ceil(100).max(1);
+            let floor = (peak * u32::from(p.choices.c_frac)).div_ceil(100).max(1);
             let floor2 = floor | floor << 16;
             let mut mo = Moments::default();
             for y in y0..=y1 {
@@ -373,7 +373,7 @@ impl Fields {
     fn recentre_general(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         let (sal, k) = (|c: u32| w.saliency_q8_cell(c), 8);
         for f in self.list.iter_mut() {
-            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            let ((x0, x1), (y0, y1)) = f.square(p.choices.r_c.min(p.table1.r_af));
             let mut peak = 0u32;
             for y in y0..=y1 {
                 let i = y * WIDTH;
@@ -387,7 +387,9 @@ impl Fields {
             }
             let peak = peak >> k;
             // ⌈peak·c_frac/100⌉ ≤ peak (c_frac ≤ 100), so it fits a u32
-            let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
+            let floor = (u64::from(peak) * u64::from(p.choices.c_frac))
+                .div_ceil(100)
+                .max(1);
             let floor = u32::try_from(floor).unwrap_or(u32::MAX);
             let mut mo = Moments::default();
             for y in y0..=y1 {
@@ -422,18 +424,18 @@ impl Fields {
             for x in 0..WIDTH {
                 let i = y * WIDTH + x;
                 let l = w.saliency(m.on(i), m.off(i));
-                if l > best.0 && !self.covers(x, y, p.r_af) {
+                if l > best.0 && !self.covers(x, y, p.table1.r_af) {
                     best = (l, x, y);
                 }
             }
         }
-        self.open(best, p.t_a)
+        self.open(best, p.table1.t_a)
     }
 
     /// Eq. (4), pixel by pixel: the plain reference of [`Fields::recentre`].
     pub fn recentre_reference(&mut self, maps: &Maps, w: &Weights, p: &Params) {
         for f in self.list.iter_mut() {
-            let ((x0, x1), (y0, y1)) = f.square(p.r_c.min(p.r_af));
+            let ((x0, x1), (y0, y1)) = f.square(p.choices.r_c.min(p.table1.r_af));
             // Weak, wide-spread change (ego-motion over texture) would drag the centroid off the
             // object: only pixels at or above `c_frac` % of the window's peak weigh in.
             let mut peak = 0u32;
@@ -442,7 +444,9 @@ impl Fields {
                     peak = peak.max(w.saliency(maps.on(i), maps.off(i)));
                 }
             }
-            let floor = (u64::from(peak) * u64::from(p.c_frac)).div_ceil(100).max(1);
+            let floor = (u64::from(peak) * u64::from(p.choices.c_frac))
+                .div_ceil(100)
+                .max(1);
             let (mut m, mut mx, mut my) = (0u64, 0u64, 0u64);
             for y in y0..=y1 {
                 for x in x0..=x1 {
@@ -520,6 +524,9 @@ impl Fields {
 mod tests {
     use super::*;
     use crate::frame::PIXELS;
+    use crate::model::param_table::off0;
+    use crate::model::params::{Choices, FirmwareVariant, Mechanisms, TableOne};
+    use core::num::NonZeroU32;
 
     fn p() -> Params {
         Params::default()
@@ -532,7 +539,10 @@ mod tests {
     #[test]
     fn a_quiet_scene_lowers_the_spawn_threshold_towards_t_a_quiet() {
         let p = Params::ALVS;
-        assert_eq!((p.t_a, p.t_a_quiet, BUSY_PCT), (100, 30, 10));
+        assert_eq!(
+            (p.table1.t_a, off0(p.mechanisms.t_a_quiet), BUSY_PCT),
+            (100, 30, 10)
+        );
         // 1,782 pixels sampled: 179 changing (10 %) or more is a busy scene
         assert_eq!(spawn_threshold((0, 0, 1782), &p), 30);
         assert_eq!(spawn_threshold((179, 3, 1782), &p), 100);
@@ -542,7 +552,10 @@ mod tests {
         // off, or not below T_a: Table I's T_a
         for quiet in [0, 100, 500] {
             let q = Params {
-                t_a_quiet: quiet,
+                mechanisms: Mechanisms {
+                    t_a_quiet: NonZeroU32::new(quiet),
+                    ..p.mechanisms
+                },
                 ..p
             };
             assert_eq!(spawn_threshold((0, 0, 1782), &q), 100);
@@ -707,7 +720,10 @@ mod tests {
         let m = Maps::new(&cells);
         for (max, want) in [(1u8, 1usize), (2, 2), (6, 2)] {
             let p = Params {
-                max_fields: max,
+                firmware: FirmwareVariant {
+                    max_fields: max,
+                    ..p().firmware
+                },
                 ..p()
             };
             let mut f = Fields::default();
@@ -830,7 +846,7 @@ mod tests {
                         _ => {}
                     }
                 }
-                let p = Params { r_af, r_c, c_frac, gain, w, t_a, ..Params::PAPER };
+                let p = Params { table1: TableOne { r_af, w, t_a, ..Params::PAPER.table1 }, choices: Choices { r_c, c_frac, gain, ..Params::PAPER.choices }, ..Params::PAPER };
                 prop_assert_eq!(p.validate(), Ok(()));
                 let w = Weights::new(&p);
                 let mut f = Fields::default();

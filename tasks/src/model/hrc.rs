@@ -173,14 +173,14 @@ pub struct LmScale {
 impl LmScale {
     /// Factors for `p` (assumed validated).
     pub const fn new(p: &Params) -> Self {
-        let gw = p.gain as f32 * p.w;
+        let gw = p.choices.gain as f32 * p.table1.w;
         LmScale {
             t4_q16: (gw * gw * 65536.0 + 0.5) as i64,
-            t5_q16: p.gain as i64 * p.gain as i64 * 65536,
-            shift: 16 + p.lm_shift as u32,
-            n: p.n as usize,
-            s: p.s as usize,
-            opponent: p.opponent,
+            t5_q16: p.choices.gain as i64 * p.choices.gain as i64 * 65536,
+            shift: 16 + p.choices.lm_shift as u32,
+            n: p.table1.n as usize,
+            s: p.choices.s as usize,
+            opponent: p.firmware.opponent,
         }
     }
 }
@@ -277,6 +277,7 @@ pub(crate) fn random_maps(seed: u32) -> [[u8; PIXELS]; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::params::{Choices, TableOne};
 
     /// A bright vertical bar at column `x0` (rows 30..40) and its position one frame earlier.
     fn bar(x0: usize, y0: usize, vertical: bool) -> [u8; PIXELS] {
@@ -367,7 +368,7 @@ mod tests {
         let sc = LmScale::new(&p);
         assert_eq!(
             (sc.t4_q16, sc.t5_q16, sc.shift),
-            (65536, 16 * 65536, 16 + u32::from(p.lm_shift))
+            (65536, 16 * 65536, 16 + u32::from(p.choices.lm_shift))
         );
         let now = bar(41, 30, true);
         let del = bar(40, 30, true);
@@ -375,7 +376,7 @@ mod tests {
         // ON only: T4 = 100·100 at (40,y) for c = 1; model units: (gain·w)² = 1
         let cells = cells_of([&now, &zero, &del, &zero]);
         let m = Maps::new(&cells);
-        let expect = (100 * 100) >> p.lm_shift;
+        let expect = (100 * 100) >> p.choices.lm_shift;
         assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Right), expect);
         assert_eq!(local_motion(&m, &sc, 40, 33, Direction::Left), 0);
         // OFF only: gain² = 16 times more
@@ -383,7 +384,7 @@ mod tests {
         let m = Maps::new(&cells);
         assert_eq!(
             local_motion(&m, &sc, 40, 33, Direction::Right),
-            (16 * 100 * 100) >> p.lm_shift
+            (16 * 100 * 100) >> p.choices.lm_shift
         );
     }
 
@@ -418,8 +419,14 @@ mod tests {
         let m = Maps::new(&cells);
         for (n, s) in [(3u8, 1u8), (1, 1), (4, 2), (2, 4)] {
             let p = Params {
-                n,
-                s,
+                table1: TableOne {
+                    n,
+                    ..Params::default().table1
+                },
+                choices: Choices {
+                    s,
+                    ..Params::default().choices
+                },
                 ..Params::default()
             };
             let sc = LmScale::new(&p);

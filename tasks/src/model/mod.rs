@@ -26,6 +26,7 @@ pub mod lplc2;
 pub mod luminance;
 pub mod movers;
 pub mod network;
+pub mod param_table;
 pub mod params;
 pub mod progress;
 pub mod retina;

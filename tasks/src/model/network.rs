@@ -19,6 +19,7 @@ use crate::model::floor;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
 use crate::model::luminance;
+use crate::model::param_table::off0;
 use crate::model::params::{ParamError, Params};
 use crate::model::progress;
 use crate::model::retina::{delay_q8, Retina, RowError, Weights};
@@ -238,7 +239,7 @@ impl Network {
         if self.retina.rows() != 0 {
             return false;
         }
-        if self.params.derotate == 0 {
+        if !self.params.efference.derotate {
             return true;
         }
         match Turn::new(yaw_deg) {
@@ -306,7 +307,7 @@ impl Network {
         // Eqs. (3)–(5).
         let maps = self.retina.maps();
         // changing pixels, counted once for `Params::t_a_quiet` and `Params::flicker_pct`
-        let changing = if p.t_a_quiet > 0 || p.flicker_pct > 0 {
+        let changing = if p.mechanisms.t_a_quiet.is_some() || p.mechanisms.flicker_pct.is_some() {
             luminance::changing(maps.cells)
         } else {
             (0, 0, 0)
@@ -314,7 +315,7 @@ impl Network {
         let t_a = attention::spawn_threshold(changing, &p);
         self.fields.spawn_above(&maps, &self.weights, &p, t_a);
         self.fields.recentre(&maps, &self.weights, &p);
-        self.fields.fuse(p.r_af);
+        self.fields.fuse(p.table1.r_af);
         mark(Stage::Attention);
 
         // Eqs. (6)–(9) per field, then Eq. (10).
@@ -322,7 +323,7 @@ impl Network {
             .fields
             .iter()
             .map(|f| {
-                let (cols, rows) = f.square(p.r_af);
+                let (cols, rows) = f.square(p.table1.r_af);
                 let centre = (usize::from(f.x), usize::from(f.y));
                 lplc2::Region { centre, cols, rows }
             })
@@ -342,13 +343,18 @@ impl Network {
         let mut muted = [false; MAX_AFS];
         for ((f, l), muted) in self.fields.iter_mut().zip(lplc.iter_mut()).zip(&mut muted) {
             let last = (f.shift_since_drive() <= lplc2::GROW_SHIFT_PX).then_some(f.drive);
-            if !lplc2::partial_opening_grows(l.quadrants, &gate, last, p.q_grow_pct) {
+            if !lplc2::partial_opening_grows(
+                l.quadrants,
+                &gate,
+                last,
+                off0(p.mechanisms.q_grow_pct),
+            ) {
                 l.response = 0;
             }
             f.drive = lplc2::drive(l.quadrants);
             f.drive_at = (f.x, f.y);
             // `Params::band_row`: driving, the scene above the body's height is its own flow
-            if self.driving && f.y < p.band_row {
+            if self.driving && p.efference.band_row.is_some_and(|row| f.y < row.get()) {
                 l.response = 0;
                 *muted = true;
             }
@@ -356,7 +362,8 @@ impl Network {
         // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
         // fills after a (re)start, and on a whole-field luminance event, no field is stimulated
         // (and the floor line says nothing either).
-        let silent = index < u32::from(p.warmup) || luminance::is_event_of(changing, p.flicker_pct);
+        let silent = index < u32::from(off0(p.mechanisms.warmup))
+            || luminance::is_event_of(changing, off0(p.mechanisms.flicker_pct));
         if silent {
             for l in lplc.iter_mut() {
                 l.response = 0;
@@ -372,21 +379,21 @@ impl Network {
         for (f, l) in self.fields.iter_mut().zip(lplc.iter()) {
             f.push_response(l.response);
         }
-        if p.t_lplc2 > 0 {
+        if let Some(t_lplc2) = p.firmware.t_lplc2 {
             // `Params::t_lplc2`: a field passes on its mean over `d` frames while above it
             for ((f, (_, l)), muted) in self.fields.iter().zip(results.iter_mut()).zip(muted) {
-                let mean = f.window_mean(p.d);
-                l.response = if mean > p.t_lplc2 && !muted && !silent {
+                let mean = f.window_mean(p.table1.d);
+                l.response = if mean > t_lplc2.get() && !muted && !silent {
                     mean
                 } else {
                     0
                 };
             }
         }
-        if p.strict_retire {
-            self.fields.retire_strict(p.d, p.t_d);
+        if p.firmware.strict_retire {
+            self.fields.retire_strict(p.table1.d, p.table1.t_d);
         } else {
-            self.fields.retire(p.d, p.t_d);
+            self.fields.retire(p.table1.d, p.table1.t_d);
         }
 
         let mut afs: heapless::Vec<AfReport, MAX_AFS> = heapless::Vec::new();
@@ -403,30 +410,30 @@ impl Network {
             }
         }
         let mut vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
-        if p.adapt_frames > 0 {
+        if let Some(frames) = p.short.adapt_frames {
             // motion adaptation: the short mode needs a response above twice its recent mean
             let sum = vm.lplc2_sum as f32;
             vm.short_mode &= sum > ADAPT_RATIO * self.adapted;
-            self.adapted += (sum - self.adapted) / f32::from(p.adapt_frames);
+            self.adapted += (sum - self.adapted) / f32::from(frames.get());
         }
-        if self.driving && p.short_cols > 0 {
+        if let Some(cols) = p.short.short_cols.filter(|_| self.driving) {
             // `Params::short_cols`: driving, only a threat in the path is imminent
-            let cols = f32::from(p.short_cols);
+            let cols = f32::from(cols.get());
             vm.short_mode &= vm.threat_x.is_some_and(|x| (x - CENTRE_X).abs() <= cols);
         }
-        if self.driving && p.short_row > 0 && vm.short_mode {
+        if let Some(near) = p.short.short_row.filter(|_| self.driving && vm.short_mode) {
             // `Params::short_row`: driving, only a threat within a second's travel is imminent
             // (the short mode has a threat: ΣLPLC2 > T_s). X̄ is truncated to its column: rounding
             // changed 1 of 10 arena runs (seeds 1–5, both wall sets), by one collision more.
             let prev = self.retina.prev();
             vm.short_mode &= vm.threat_x.is_some_and(|x| {
-                floor::nearest_foot(prev, x as u8).is_some_and(|row| row >= p.short_row)
+                floor::nearest_foot(prev, x as u8).is_some_and(|row| row >= near.get())
             });
         }
-        if p.blocked_change > 0 {
-            vm.view = Some((progress::view(self.retina.prev()), p.blocked_change));
+        if let Some(change) = p.efference.blocked_change {
+            vm.view = Some((progress::view(self.retina.prev()), change.get()));
         }
-        if self.driving && p.floor_row > 0 && !silent {
+        if self.driving && p.efference.floor_row.is_some() && !silent {
             if let Some(x) = self.floor_line() {
                 vm.ahead(x, &p);
             }
@@ -444,7 +451,7 @@ impl Network {
     /// firmware's stack budget).
     #[inline(never)]
     fn floor_line(&self) -> Option<u8> {
-        floor::obstacle_ahead(self.retina.prev(), self.params.floor_row)
+        floor::obstacle_ahead(self.retina.prev(), off0(self.params.efference.floor_row))
     }
 
     /// FNV-1a digest of the whole state (maps, previous frame, fields, counters): equal

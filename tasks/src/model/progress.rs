@@ -107,10 +107,15 @@ mod tests {
 
     #[test]
     fn the_network_reports_views_only_when_the_mechanism_is_on() {
+        use crate::model::params::Efference;
         use crate::{Network, Params};
+        use core::num::NonZeroU8;
         let frame = [77u8; PIXELS];
         let on = Params {
-            blocked_change: 6,
+            efference: Efference {
+                blocked_change: NonZeroU8::new(6),
+                ..Params::ALVS.efference
+            },
             ..Params::ALVS
         };
         let mut n = Network::new(on).unwrap();

@@ -221,7 +221,7 @@ impl Retina {
 
 /// `1/C_d` in Q8 (256 = a pure one-frame delay).
 pub const fn delay_q8(p: &Params) -> i32 {
-    (256.0 / p.c_d + 0.5) as i32
+    (256.0 / p.choices.c_d + 0.5) as i32
 }
 
 /// First-order low-pass delay line of Eq. (6): `D ← D + (L − D)/C_d`, rounded to nearest but
@@ -474,9 +474,9 @@ pub struct Weights {
 impl Weights {
     /// Factors for `p` (assumed validated).
     pub const fn new(p: &Params) -> Self {
-        let g = p.gain as u32;
+        let g = p.choices.gain as u32;
         Weights {
-            on_q8: (p.gain as f32 * p.w * 256.0 + 0.5) as u32,
+            on_q8: (p.choices.gain as f32 * p.table1.w * 256.0 + 0.5) as u32,
             off_q8: g * 256,
         }
     }

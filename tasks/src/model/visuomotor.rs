@@ -49,14 +49,14 @@ impl Visuomotor {
     #[inline(always)]
     pub fn ahead(&mut self, x: u8, p: &Params) {
         let x = f32::from(x);
-        let short = theta_short(x, p.alpha);
+        let short = theta_short(x, p.table1.alpha);
         self.obstacle = Some(short[0]);
         if self.alert {
             return;
         }
         self.alert = true;
         self.threat_x = Some(x);
-        self.theta_long = Some(theta_long(x, p.alpha));
+        self.theta_long = Some(theta_long(x, p.table1.alpha));
         self.theta_short = Some(short);
     }
 
@@ -77,12 +77,12 @@ impl Visuomotor {
         let alert = sum > 0;
         Visuomotor {
             lplc2_sum: sum,
-            strength: strength(sum, p.w_s),
+            strength: strength(sum, p.table1.w_s),
             threat_x,
             alert,
-            short_mode: sum > p.t_s,
-            theta_long: threat_x.map(|x| theta_long(x, p.alpha)),
-            theta_short: threat_x.map(|x| theta_short(x, p.alpha)),
+            short_mode: sum > p.table1.t_s,
+            theta_long: threat_x.map(|x| theta_long(x, p.table1.alpha)),
+            theta_short: threat_x.map(|x| theta_short(x, p.table1.alpha)),
             view: None,
             obstacle: None,
             sighting: None,

@@ -112,7 +112,7 @@ pub fn step(
         }
     }
     // the swarm's look, as motor control runs it; none in escape
-    let look_change = network.params().look_change;
+    let look_change = crate::model::param_table::off0(network.params().swarm.look_change);
     let look = movers.map(|m| (m, network.frame(), look_change));
     let (command, frames) = control.step_seeing(&perception.vm, look, true);
     stamps[5] = clock();

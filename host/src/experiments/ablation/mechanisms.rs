@@ -11,7 +11,9 @@
 //! each one changes something.
 
 use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::model::params::{Efference, ShortGates, TableOne};
 use alvs_tasks::Params;
+use core::num::NonZeroU8;
 use serde::Serialize;
 
 use crate::arena::Kind;
@@ -40,11 +42,19 @@ impl Model {
     /// default (before the ablation on the held-out seeds took them out).
     pub const ALL: Model = Model {
         params: Params {
-            blocked_change: 2,
-            adapt_frames: 30,
-            short_cols: 23,
-            short_row: 50,
-            t_s: 5500,
+            table1: TableOne {
+                t_s: 5500,
+                ..Params::ALVS.table1
+            },
+            efference: Efference {
+                blocked_change: NonZeroU8::new(2),
+                ..Params::ALVS.efference
+            },
+            short: ShortGates {
+                adapt_frames: NonZeroU8::new(30),
+                short_cols: NonZeroU8::new(23),
+                short_row: NonZeroU8::new(50),
+            },
             ..Params::ALVS
         },
         fsm: FsmParams::ALVS,
@@ -96,35 +106,35 @@ pub const MECHANISMS: [Mechanism; 16] = [
         what: "no field stimulated while the delay line refills",
         fields: "warmup",
         escape: true,
-        copy: |m, s| m.params.warmup = s.params.warmup,
+        copy: |m, s| m.params.mechanisms.warmup = s.params.mechanisms.warmup,
     },
     Mechanism {
         name: "flicker",
         what: "a whole-field brightness step is not motion",
         fields: "flicker_pct",
         escape: true,
-        copy: |m, s| m.params.flicker_pct = s.params.flicker_pct,
+        copy: |m, s| m.params.mechanisms.flicker_pct = s.params.mechanisms.flicker_pct,
     },
     Mechanism {
         name: "blocked",
         what: "turn around when driving changes nothing (efference copy)",
         fields: "blocked_change",
         escape: true,
-        copy: |m, s| m.params.blocked_change = s.params.blocked_change,
+        copy: |m, s| m.params.efference.blocked_change = s.params.efference.blocked_change,
     },
     Mechanism {
         name: "derotate",
         what: "re-register the retina to each turn (efference copy)",
         fields: "derotate",
         escape: true,
-        copy: |m, s| m.params.derotate = s.params.derotate,
+        copy: |m, s| m.params.efference.derotate = s.params.efference.derotate,
     },
     Mechanism {
         name: "adapt",
         what: "short mode needs a response growing above its running mean",
         fields: "adapt_frames",
         escape: true,
-        copy: |m, s| m.params.adapt_frames = s.params.adapt_frames,
+        copy: |m, s| m.params.short.adapt_frames = s.params.short.adapt_frames,
     },
     Mechanism {
         name: "three-arms",
@@ -132,8 +142,8 @@ pub const MECHANISMS: [Mechanism; 16] = [
         fields: "q_arms, q_grow_pct",
         escape: true,
         copy: |m, s| {
-            m.params.q_arms = s.params.q_arms;
-            m.params.q_grow_pct = s.params.q_grow_pct;
+            m.params.choices.q_arms = s.params.choices.q_arms;
+            m.params.mechanisms.q_grow_pct = s.params.mechanisms.q_grow_pct;
         },
     },
     Mechanism {
@@ -141,42 +151,42 @@ pub const MECHANISMS: [Mechanism; 16] = [
         what: "a lower T_a when little of the scene moves",
         fields: "t_a_quiet",
         escape: true,
-        copy: |m, s| m.params.t_a_quiet = s.params.t_a_quiet,
+        copy: |m, s| m.params.mechanisms.t_a_quiet = s.params.mechanisms.t_a_quiet,
     },
     Mechanism {
         name: "band",
         what: "driving, fields above the body's height are silent",
         fields: "band_row",
         escape: true,
-        copy: |m, s| m.params.band_row = s.params.band_row,
+        copy: |m, s| m.params.efference.band_row = s.params.efference.band_row,
     },
     Mechanism {
         name: "floor",
         what: "an obstacle's foot near in the path alerts (floor line)",
         fields: "floor_row",
         escape: true,
-        copy: |m, s| m.params.floor_row = s.params.floor_row,
+        copy: |m, s| m.params.efference.floor_row = s.params.efference.floor_row,
     },
     Mechanism {
         name: "short-path",
         what: "driving, short mode only for a threat in the path",
         fields: "short_cols",
         escape: true,
-        copy: |m, s| m.params.short_cols = s.params.short_cols,
+        copy: |m, s| m.params.short.short_cols = s.params.short.short_cols,
     },
     Mechanism {
         name: "short-near",
         what: "driving, short mode only for a threat whose foot is near",
         fields: "short_row",
         escape: true,
-        copy: |m, s| m.params.short_row = s.params.short_row,
+        copy: |m, s| m.params.short.short_row = s.params.short.short_row,
     },
     Mechanism {
         name: "t-s",
         what: "T_s 5500 instead of Table I's 7000 (an option)",
         fields: "t_s",
         escape: true,
-        copy: |m, s| m.params.t_s = s.params.t_s,
+        copy: |m, s| m.params.table1.t_s = s.params.table1.t_s,
     },
     Mechanism {
         name: "escape-saccade",
@@ -208,7 +218,7 @@ pub const MECHANISMS: [Mechanism; 16] = [
         fields: "look_change, look_every",
         escape: false,
         copy: |m, s| {
-            m.params.look_change = s.params.look_change;
+            m.params.swarm.look_change = s.params.swarm.look_change;
             m.fsm.look_every = s.fsm.look_every;
         },
     },

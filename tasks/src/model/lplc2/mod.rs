@@ -60,9 +60,9 @@ impl Gate {
     /// The gate of the parameters `p`.
     pub fn of(p: &crate::model::params::Params) -> Self {
         Gate {
-            floor: p.q_floor,
-            balance: p.q_balance,
-            arms: p.q_arms,
+            floor: p.choices.q_floor,
+            balance: p.choices.q_balance,
+            arms: p.choices.q_arms,
         }
     }
 }

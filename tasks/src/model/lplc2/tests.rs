@@ -5,6 +5,7 @@ use super::*;
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
 use crate::model::hrc::cells_of;
 use crate::model::params::Params;
+use crate::model::params::{Choices, TableOne};
 use proptest::prelude::*;
 
 #[test]
@@ -130,14 +131,23 @@ fn the_paper_parameters_take_the_row_kernel() {
     assert_eq!((nw.a, nw.b, nw.shift, nw.n), (1, 16, 8, 3));
     // s > 1 and wide factors fall back to the general path
     let p = Params {
-        s: 2,
+        choices: Choices {
+            s: 2,
+            ..Params::PAPER.choices
+        },
         ..Params::PAPER
     };
     assert_eq!(Narrow::new(&LmScale::new(&p)), None);
     let p = Params {
-        gain: 16,
-        w: 4.0,
-        lm_shift: 0,
+        table1: TableOne {
+            w: 4.0,
+            ..Params::PAPER.table1
+        },
+        choices: Choices {
+            gain: 16,
+            lm_shift: 0,
+            ..Params::PAPER.choices
+        },
         ..Params::PAPER
     };
     assert_eq!(Narrow::new(&LmScale::new(&p)), None);
@@ -213,7 +223,7 @@ proptest! {
         let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
         let m = Maps::new(&cells);
         let s = if u32::from(n) * u32::from(s) > 8 { 1 } else { s };
-        let p = Params { n, s, gain, w, lm_shift, ..Params::PAPER };
+        let p = Params { table1: TableOne { n, w, ..Params::PAPER.table1 }, choices: Choices { s, gain, lm_shift, ..Params::PAPER.choices }, ..Params::PAPER };
         prop_assert_eq!(p.validate(), Ok(()));
         let sc = LmScale::new(&p);
         let mut all = [Lplc2::default(); crate::model::network::MAX_AFS];
