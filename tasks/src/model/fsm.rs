@@ -1109,6 +1109,12 @@ mod tests {
     }
 
     #[test]
+    fn the_groups_cost_no_ram() {
+        // the flat struct before the groups took 120 bytes
+        assert_eq!(core::mem::size_of::<FsmParams>(), 116);
+    }
+
+    #[test]
     fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
         // the default is the paper's plus the escape saccade, the moving takeoff, brisk
         // saccades and the swarm's looks, nothing else
