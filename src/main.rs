@@ -190,7 +190,7 @@ mod app {
             off0(alvs_tasks::Params::ALVS.mechanisms.t_a_quiet),
             off0(alvs_tasks::Params::ALVS.efference.band_row),
             off0(alvs_tasks::Params::ALVS.efference.floor_row),
-            FsmParams::ALVS.escape_saccade,
+            u8::from(FsmParams::ALVS.escape.escape_saccade),
             core::mem::size_of::<Network>(),
             alvs_tasks::robot::health::PRIME_FRAMES,
             BOOT_BEHAVIOUR.name()

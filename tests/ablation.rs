@@ -12,7 +12,7 @@ use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteCo
 use alvs_host::experiments::sweep::{self, Shard, Sweep};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
-use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::model::fsm::{Escape, FsmParams};
 use alvs_tasks::Params;
 
 mod common;
@@ -80,7 +80,10 @@ fn each_part_is_the_experiments_own_run_with_the_variants_model() {
 
     // evasion and two threats: the commands' runs, the variant's model
     let without = FsmParams {
-        escape_saccade: 0,
+        escape: Escape {
+            escape_saccade: false,
+            ..FsmParams::ALVS.escape
+        },
         ..FsmParams::ALVS
     };
     for (v, fsm) in [(0, FsmParams::ALVS), (1, without)] {

@@ -10,8 +10,9 @@ use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
-use alvs_tasks::model::fsm::{FsmParams, State};
+use alvs_tasks::model::fsm::{Escape, FsmParams, State, Swarm};
 use alvs_tasks::Params;
+use core::num::NonZeroU32;
 
 mod common;
 use alvs_tasks::model::params::Efference;
@@ -91,8 +92,11 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
         evasion::run(&config, 2, &|_| {}).expect("a valid configuration")
     };
     let papers_turn = FsmParams {
-        takeoff_gain: 1.0,
-        takeoff_yaw_deg_s: 360.0,
+        escape: Escape {
+            takeoff_gain: 1.0,
+            takeoff_yaw_deg_s: 360.0,
+            ..FsmParams::ALVS.escape
+        },
         ..FsmParams::ALVS
     };
     let (default, table_one) = (run("5500", FsmParams::ALVS), run("7000", papers_turn));
@@ -288,11 +292,14 @@ fn swarm_robots_spin_and_escaping_robots_do_not() {
 /// group keeps its spread.
 #[test]
 fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
-    let run = |look_every: u32| {
+    let run = |look_every: Option<NonZeroU32>| {
         let config = SwarmConfig {
             controllers: vec![Kind::Swarm],
             fsm: FsmParams {
-                look_every,
+                swarm: Swarm {
+                    look_every,
+                    ..FsmParams::default().swarm
+                },
                 ..FsmParams::default()
             },
             world: BuiltinWorld::Lab,
@@ -307,7 +314,7 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
             t.robot_collisions_per_minute,
         )
     };
-    let (start, end, nearest, look, collisions) = run(FsmParams::default().look_every);
+    let (start, end, nearest, look, collisions) = run(FsmParams::default().swarm.look_every);
     assert!(end < 0.5 * start, "the default: {start} → {end} mm");
     assert!(
         nearest < 100.0,
@@ -319,7 +326,7 @@ fn a_swarm_that_looks_for_movers_gathers_over_five_minutes() {
         collisions < 1.0,
         "{collisions} robot–robot collisions a minute"
     );
-    let (start, end, ..) = run(0);
+    let (start, end, ..) = run(None);
     assert!(end > 0.8 * start, "without looks: {start} → {end} mm");
 }
 
@@ -421,8 +428,11 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
                 ..Params::default()
             },
             fsm: FsmParams {
-                spin_deg_s: deg_s,
-                look_every: 0,
+                swarm: Swarm {
+                    spin_deg_s: deg_s,
+                    look_every: None,
+                    ..FsmParams::default().swarm
+                },
                 ..FsmParams::default()
             },
             world: BuiltinWorld::Lab,
@@ -431,7 +441,7 @@ fn a_spinning_swarm_clusters_over_five_minutes() {
         let t = one_swarm_trial(config);
         (t.spread_start_mm, t.spread_last_minute_mm)
     };
-    let (start, end) = spin(FsmParams::default().spin_deg_s);
+    let (start, end) = spin(FsmParams::default().swarm.spin_deg_s);
     assert!(end < 0.6 * start, "the default: {start} → {end} mm");
     let (start, end) = spin(360.0);
     assert!(

@@ -203,7 +203,7 @@ fn yuv_encoding_inverts_the_extraction() {
 fn escapes_away(name: &str, threat_on_right: bool) {
     let mut robot = Robot::new();
     let steps = run(&mut robot, &scene(name));
-    let cruise = motor::power(FsmParams::default().cruise_mm_s);
+    let cruise = motor::power(FsmParams::default().motion.cruise_mm_s);
     assert_eq!(cruise, 250);
 
     let primed = PRIME_FRAMES as usize;

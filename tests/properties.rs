@@ -179,6 +179,11 @@ fn threshold() -> impl Strategy<Value = u32> {
     prop_oneof![3 => 0u32..20_000, 1 => any::<u32>(), 1 => Just(u32::MAX)]
 }
 
+/// A threshold of Table I (`T_a`, `T_d`, `u16`s): small values or any `u16`.
+fn threshold16() -> impl Strategy<Value = u16> {
+    prop_oneof![3 => 0u16..20_000, 1 => any::<u16>(), 1 => Just(u16::MAX)]
+}
+
 /// A float in `lo..=hi`, its bounds included on purpose.
 fn float_in(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
     prop_oneof![1 => Just(lo), 1 => Just(hi), 4 => lo..=hi]
@@ -190,8 +195,8 @@ fn valid_params() -> impl Strategy<Value = Params> {
         float_in(0.0, 4.0),
         1u8..=MAX_N,
         1u8..=99,
-        threshold(),
-        threshold(),
+        threshold16(),
+        threshold16(),
         1u8..=MAX_D,
     );
     let second = (

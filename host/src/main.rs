@@ -517,12 +517,9 @@ struct CommonArgs {
     /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
-    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
-    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
+    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
+    /// names".
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -718,12 +715,9 @@ struct ArenaArgs {
     /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
-    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
-    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
+    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
+    /// names".
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     #[command(flatten)]
@@ -745,12 +739,9 @@ struct ModelArgs {
     /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6.
-    /// Names: cruise_mm_s max_escape_mm_s retreat_mm_s max_wheel_mm_s track_mm heading_gain
-    /// max_yaw_deg_s align_tol_deg min_escape_frames quiet_frames takeoff_timeout_frames
-    /// spin_frames spin_deg_s saccade_yaw_deg_s settle_frames alert_frames blocked_frames
-    /// blocked_travel_mm blocked_yaw_deg retreat_frames takeoff_drive live_strength
-    /// escape_saccade takeoff_gain takeoff_yaw_deg_s look_every look_scans.
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
+    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
+    /// names".
     #[arg(long = "fsm", value_name = "NAME=VALUE")]
     fsm: Vec<String>,
     /// Motor behaviour: escape (paper II-B) or swarm (spin on approach, paper IV-D).

@@ -70,7 +70,7 @@ impl Pipeline {
         Ok(Pipeline {
             net,
             fsm: Fsm::new(fp, behaviour),
-            odometry: Odometry::new(fp.track_mm, 0.0),
+            odometry: Odometry::new(fp.motion.track_mm, 0.0),
             movers: (behaviour == Behaviour::Swarm).then(Movers::new),
             standing: false,
         })

@@ -64,14 +64,22 @@ fn a_held_robot_is_not_blocked() {
 fn the_blocked_way_parameters_are_set_by_name() {
     let mut p = FsmParams::default();
     assert_eq!(
-        (p.blocked_frames, p.blocked_travel_mm, p.blocked_yaw_deg),
+        (
+            p.blocked.blocked_frames,
+            p.blocked.blocked_travel_mm,
+            p.blocked.blocked_yaw_deg
+        ),
         (15, 40.0, 10.0)
     );
     p.set("blocked_frames", "0").unwrap();
     p.set("blocked_travel_mm", "25").unwrap();
     p.set("blocked_yaw_deg", "5").unwrap();
     assert_eq!(
-        (p.blocked_frames, p.blocked_travel_mm, p.blocked_yaw_deg),
+        (
+            p.blocked.blocked_frames,
+            p.blocked.blocked_travel_mm,
+            p.blocked.blocked_yaw_deg
+        ),
         (0, 25.0, 5.0)
     );
     // blocked_frames 0 turns the test off

@@ -47,7 +47,10 @@ fn the_firmware_takes_the_gamma_path_only_out_of_a_long_takeoff() {
 
     let mut paper = Fsm::new(
         FsmParams {
-            alert_frames: 3,
+            timing: Timing {
+                alert_frames: 3,
+                ..params().timing
+            },
             ..params()
         },
         Behaviour::Escape,
@@ -72,7 +75,7 @@ fn after_a_long_takeoff_the_firmware_escapes_for_one_frame() {
     assert_eq!(c.state, State::LongTakeoff);
     // turning in place, at most 239°/s
     assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3, "{c:?}");
-    let yaw = (c.left_mm_s - c.right_mm_s) / FsmParams::FIRMWARE.track_mm;
+    let yaw = (c.left_mm_s - c.right_mm_s) / FsmParams::FIRMWARE.motion.track_mm;
     assert!(yaw.abs().to_degrees() <= 239.0 + 1e-3, "{c:?}");
     let sp = c.heading_setpoint_deg;
     let c = f.step(&quiet(), sp);

@@ -44,7 +44,7 @@ pub(crate) fn stopped(c: &MotorCommand) -> bool {
 }
 
 pub(crate) fn tol() -> f32 {
-    FsmParams::default().align_tol_deg
+    FsmParams::default().motion.align_tol_deg
 }
 
 // ---- getting an FSM into each state (heading frozen unless said otherwise) ----
@@ -55,7 +55,10 @@ pub(crate) fn tol() -> f32 {
 /// commanded turn never happens.
 pub(crate) fn params() -> FsmParams {
     FsmParams {
-        saccade_yaw_deg_s: f32::INFINITY,
+        suppression: Suppression {
+            saccade_yaw_deg_s: f32::INFINITY,
+            ..FsmParams::PAPER.suppression
+        },
         ..FsmParams::PAPER
     }
 }
@@ -91,7 +94,7 @@ pub(crate) fn in_escape_late(h: f32) -> (Fsm, f32) {
     let (mut f, sp) = in_escape(h);
     // alerts before the minimum duration are ignored (but reset the quiet count); the next
     // frame is the first that may act
-    for _ in 1..FsmParams::default().min_escape_frames {
+    for _ in 1..FsmParams::default().timing.min_escape_frames {
         assert_eq!(f.step(&long(LEFT_X), sp).state, State::Escape);
     }
     (f, sp)
@@ -125,7 +128,10 @@ pub(crate) fn in_short_turn(h: f32) -> (Fsm, [f32; 2]) {
 pub(crate) fn in_stop(h: f32) -> Fsm {
     let mut f = Fsm::new(
         FsmParams {
-            wander_stop_frames: Some(2),
+            firmware: FirmwareFsm {
+                wander_stop_frames: Some(2),
+                ..params().firmware
+            },
             ..params()
         },
         Behaviour::Escape,
@@ -153,7 +159,10 @@ pub(crate) fn swarm_spin(h: f32) -> Fsm {
 pub(crate) fn swarm_looking(every: u32) -> Fsm {
     Fsm::new(
         FsmParams {
-            look_every: every,
+            swarm: Swarm {
+                look_every: NonZeroU32::new(every),
+                ..params().swarm
+            },
             ..params()
         },
         Behaviour::Swarm,
@@ -183,7 +192,7 @@ pub(crate) fn closed_loop(
     frames: usize,
     vm_at: impl Fn(usize) -> Visuomotor,
 ) -> Vec<(MotorCommand, f32)> {
-    let mut odo = Odometry::new(f.params().track_mm, h0);
+    let mut odo = Odometry::new(f.params().motion.track_mm, h0);
     (0..frames)
         .map(|i| {
             let c = f.step(&vm_at(i), odo.heading_deg());

@@ -62,7 +62,7 @@ fn gamma_path_in_closed_loop_turns_away_from_the_threat() {
                 match (c.state, c.short_phase) {
                     (State::ShortTakeoff, Some(ShortPhase::Retreat)) => {
                         assert_eq!(phase2, 0, "phase 1 comes first");
-                        if (i as u32) < f.params().retreat_frames {
+                        if (i as u32) < f.params().timing.retreat_frames {
                             assert!(c.left_mm_s + c.right_mm_s < 0.0, "retreat at frame {i}");
                         } else {
                             // bounded retreat: then it turns in place
@@ -85,7 +85,7 @@ fn gamma_path_in_closed_loop_turns_away_from_the_threat() {
                         if escape_at.is_none() {
                             assert!(phase1 > 0 && phase2 > 0, "{x} {h0}");
                             // aligned with θ², not timed out
-                            assert!(i < f.params().takeoff_timeout_frames as usize);
+                            assert!(i < f.params().timing.takeoff_timeout_frames as usize);
                             assert!(err(h_prev, threat + 180.0) <= tol(), "{x} {h0} {h_prev}");
                             assert!(err(c.heading_setpoint_deg, threat + 180.0) < 1e-3);
                             escape_at = Some(i);
@@ -137,7 +137,7 @@ fn long_takeoff_turns_away_from_the_threat_side_and_escapes_at_s_times_max() {
             .iter()
             .position(|(c, _)| c.state == State::Escape)
             .expect("escapes");
-        assert!(i_escape < p.takeoff_timeout_frames as usize);
+        assert!(i_escape < p.timing.takeoff_timeout_frames as usize);
         for (c, _) in &run[..i_escape] {
             assert_eq!(c.state, State::LongTakeoff);
             assert_eq!(c.left_mm_s > c.right_mm_s, expect_right);
@@ -147,7 +147,10 @@ fn long_takeoff_turns_away_from_the_threat_side_and_escapes_at_s_times_max() {
         assert_eq!(c.state, State::Escape);
         assert!(err(*h, threat + 180.0) <= 1.0);
         let v = (c.left_mm_s + c.right_mm_s) / 2.0;
-        assert!((v - vm.strength * p.max_escape_mm_s).abs() < 1e-2, "{v}");
+        assert!(
+            (v - vm.strength * p.motion.max_escape_mm_s).abs() < 1e-2,
+            "{v}"
+        );
         // only a residual correction (1° of error is 4°/s, i.e. 3.4 mm/s of wheel difference)
         assert!((c.left_mm_s - c.right_mm_s).abs() < 5.0, "{c:?}");
     }
@@ -173,7 +176,7 @@ fn the_retreat_reverses_for_retreat_frames_then_turns_in_place() {
         assert!(back[n..].iter().all(|&b| !b), "never reverses again");
     }
     assert_eq!(
-        FsmParams::default().retreat_frames,
+        FsmParams::default().timing.retreat_frames,
         u32::MAX,
         "the paper's γ path"
     );

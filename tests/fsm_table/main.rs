@@ -5,13 +5,14 @@
 use alvs_tasks::model::derotate::FOCAL_PX;
 use alvs_tasks::model::fsm::LOOK_TIMEOUT_FRAMES;
 use alvs_tasks::model::fsm::{
-    Behaviour, Fsm, FsmParamError, FsmParams, HeadingEstimator, MotorCommand, Odometry, ShortPhase,
-    State,
+    Behaviour, Blocked, Escape, FirmwareFsm, Fsm, FsmParamError, FsmParams, HeadingEstimator,
+    Motion, MotorCommand, Odometry, ShortPhase, State, Suppression, Swarm, Timing,
 };
 use alvs_tasks::model::movers::{Movers, Sighting};
 use alvs_tasks::model::visuomotor::{bearing, wrap_deg, Visuomotor};
 use alvs_tasks::Params;
 use alvs_tasks::{PIXELS, WIDTH};
+use core::num::NonZeroU32;
 use proptest::prelude::*;
 
 mod blocked_way;

@@ -112,15 +112,15 @@ proptest! {
         let p = FsmParams::default();
         // the swarm looks every third frame of wandering (`FsmParams::look_every`)
         let mut f = if swarm {
-            Fsm::new(FsmParams { look_every: 3, ..params() }, Behaviour::Swarm)
+            Fsm::new(FsmParams { swarm: Swarm { look_every: NonZeroU32::new(3), ..params().swarm }, ..params() }, Behaviour::Swarm)
         } else {
             fsm(Behaviour::Escape)
         };
         for (vm, h) in frames {
             let c = f.step(&vm, h);
             prop_assert!(c.left_mm_s.is_finite() && c.right_mm_s.is_finite());
-            prop_assert!(c.left_mm_s.abs() <= p.max_wheel_mm_s + 1e-3);
-            prop_assert!(c.right_mm_s.abs() <= p.max_wheel_mm_s + 1e-3);
+            prop_assert!(c.left_mm_s.abs() <= p.motion.max_wheel_mm_s + 1e-3);
+            prop_assert!(c.right_mm_s.abs() <= p.motion.max_wheel_mm_s + 1e-3);
             prop_assert!(c.heading_setpoint_deg.is_finite());
             let finite = h.is_finite()
                 && vm.strength.is_finite()
@@ -147,35 +147,49 @@ proptest! {
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
     ) {
         let p = FsmParams {
-            cruise_mm_s: vals[0],
-            max_escape_mm_s: vals[1],
-            retreat_mm_s: vals[2],
-            retreat_frames: counts[7],
-            max_wheel_mm_s: vals[3],
-            track_mm: vals[4],
-            heading_gain: vals[5],
-            max_yaw_deg_s: vals[6],
-            align_tol_deg: vals[7],
-            spin_deg_s: vals[8],
-            min_escape_frames: counts[0],
-            quiet_frames: counts[1],
-            takeoff_timeout_frames: counts[2],
-            spin_frames: counts[3],
-            saccade_yaw_deg_s: vals[9],
-            settle_frames: counts[4],
-            alert_frames: counts[5],
-            blocked_frames: counts[6],
-            blocked_travel_mm: vals[10],
-            blocked_yaw_deg: vals[11],
-            takeoff_drive: vals[12],
-            live_strength: counts[8],
-            escape_saccade: counts[9],
-            takeoff_gain: vals[13],
-            takeoff_yaw_deg_s: vals[6],
-            look_every: counts[10],
-            look_scans: counts[11],
-            short_from_long,
-            wander_stop_frames,
+            motion: Motion {
+                cruise_mm_s: vals[0],
+                max_escape_mm_s: vals[1],
+                retreat_mm_s: vals[2],
+                max_wheel_mm_s: vals[3],
+                track_mm: vals[4],
+                heading_gain: vals[5],
+                max_yaw_deg_s: vals[6],
+                align_tol_deg: vals[7],
+            },
+            timing: Timing {
+                retreat_frames: counts[7],
+                min_escape_frames: counts[0],
+                quiet_frames: counts[1],
+                takeoff_timeout_frames: counts[2],
+                alert_frames: counts[5],
+            },
+            suppression: Suppression {
+                saccade_yaw_deg_s: vals[9],
+                settle_frames: counts[4],
+            },
+            blocked: Blocked {
+                blocked_frames: counts[6],
+                blocked_travel_mm: vals[10],
+                blocked_yaw_deg: vals[11],
+            },
+            escape: Escape {
+                takeoff_drive: vals[12],
+                takeoff_gain: vals[13],
+                takeoff_yaw_deg_s: vals[6],
+                live_strength: counts[8] as u8,
+                escape_saccade: counts[9] != 0,
+            },
+            swarm: Swarm {
+                spin_frames: counts[3],
+                spin_deg_s: vals[8],
+                look_every: NonZeroU32::new(counts[10]),
+                look_scans: counts[11],
+            },
+            firmware: FirmwareFsm {
+                short_from_long,
+                wander_stop_frames,
+            },
         };
         let mut f = Fsm::new(p, if swarm { Behaviour::Swarm } else { Behaviour::Escape });
         for (vm, h) in frames {

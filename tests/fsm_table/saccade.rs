@@ -5,7 +5,10 @@ use super::*;
 
 fn with_saccade() -> FsmParams {
     FsmParams {
-        escape_saccade: 1,
+        escape: Escape {
+            escape_saccade: true,
+            ..params().escape
+        },
         ..params()
     }
 }
@@ -94,7 +97,10 @@ fn short_mode_outside_an_escape_is_still_the_gamma_path() {
 #[test]
 fn a_saccade_turns_in_place_while_a_takeoff_drives() {
     let p = FsmParams {
-        takeoff_drive: 1.0,
+        escape: Escape {
+            takeoff_drive: 1.0,
+            ..with_saccade().escape
+        },
         ..with_saccade()
     };
     // the takeoff from Wander, its set-point behind: it backs away while it turns
@@ -171,10 +177,13 @@ fn the_defaults_takeoff_turns_at_the_wheels_limit_and_the_papers_at_360_deg_s() 
         c
     };
     let paper = first(FsmParams {
-        takeoff_drive: 0.0,
+        escape: Escape {
+            takeoff_drive: 0.0,
+            ..FsmParams::PAPER.escape
+        },
         ..FsmParams::PAPER
     });
-    let half_track = FsmParams::PAPER.track_mm / 2.0;
+    let half_track = FsmParams::PAPER.motion.track_mm / 2.0;
     assert!((paper.right_mm_s - 360f32.to_radians() * half_track).abs() < 0.1);
     assert!(
         (paper.left_mm_s + paper.right_mm_s).abs() < 1e-3,
@@ -183,7 +192,7 @@ fn the_defaults_takeoff_turns_at_the_wheels_limit_and_the_papers_at_360_deg_s() 
     // the default: the wheels at their limit, the turn first (it drives backwards only with
     // what the limit leaves, here nothing)
     let alvs = first(FsmParams::ALVS);
-    let max = FsmParams::ALVS.max_wheel_mm_s;
+    let max = FsmParams::ALVS.motion.max_wheel_mm_s;
     assert!((alvs.right_mm_s - max).abs() < 0.1 && (alvs.left_mm_s + max).abs() < 0.1);
     // wander keeps its gentle steering: 4/s on a 20° error, under both
     for p in [FsmParams::PAPER, FsmParams::ALVS] {
@@ -212,7 +221,10 @@ fn the_defaults_saccades_turn_three_times_as_briskly() {
     };
     let plain = turn(params());
     let brisk = turn(FsmParams {
-        takeoff_gain: FsmParams::ALVS.takeoff_gain,
+        escape: Escape {
+            takeoff_gain: FsmParams::ALVS.escape.takeoff_gain,
+            ..params().escape
+        },
         ..params()
     });
     assert!((plain - 80f32.to_radians() * 24.0).abs() < 0.1, "{plain}");

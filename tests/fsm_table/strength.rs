@@ -8,10 +8,13 @@ fn forward(c: &MotorCommand) -> f32 {
     (c.left_mm_s + c.right_mm_s) / 2.0
 }
 
-fn with_live(live: u32) -> Fsm {
+fn with_live(live: u8) -> Fsm {
     Fsm::new(
         FsmParams {
-            live_strength: live,
+            escape: Escape {
+                live_strength: live,
+                ..params().escape
+            },
             ..params()
         },
         Behaviour::Escape,
@@ -20,7 +23,7 @@ fn with_live(live: u32) -> Fsm {
 
 /// Escape speeds of the first three frames of an escape from a long takeoff (S = S(4000)),
 /// with nothing looming and then a weak threat (Σ = 2000, ignored before the minimum escape).
-fn escape_speeds(live: u32) -> [f32; 3] {
+fn escape_speeds(live: u8) -> [f32; 3] {
     let mut f = with_live(live);
     f.step(&quiet(), 0.0);
     let sp = f.step(&long(RIGHT_X), 0.0).heading_setpoint_deg;
@@ -34,7 +37,7 @@ fn escape_speeds(live: u32) -> [f32; 3] {
 
 #[test]
 fn the_escape_runs_at_the_latched_strength_unless_it_is_live() {
-    let max = FsmParams::default().max_escape_mm_s;
+    let max = FsmParams::default().motion.max_escape_mm_s;
     let latched = strength(LONG_R, Params::default().table1.w_s) * max;
     for v in escape_speeds(0) {
         assert!((v - latched).abs() < 0.1, "{v} vs {latched}");
@@ -50,7 +53,7 @@ fn the_escape_runs_at_the_latched_strength_unless_it_is_live() {
 
 #[test]
 fn a_live_strength_of_2_also_sets_the_retreat_speed() {
-    let retreat = FsmParams::default().retreat_mm_s;
+    let retreat = FsmParams::default().motion.retreat_mm_s;
     let s_short = strength(SHORT_R, Params::default().table1.w_s);
     for (live, s) in [(0, s_short), (1, s_short), (2, 0.5)] {
         let mut f = with_live(live);
@@ -73,13 +76,19 @@ fn a_live_strength_of_2_also_sets_the_retreat_speed() {
 fn a_suppressed_frame_keeps_the_strength() {
     // saccadic suppression on (45°/s) against off: the escape steers back from 30° off its
     // set-point at 4 · 30 = 120°/s, so the next frame's perception is ignored and S stays
-    let max = FsmParams::default().max_escape_mm_s;
+    let max = FsmParams::default().motion.max_escape_mm_s;
     let w_s = Params::default().table1.w_s;
     for (saccade, s) in [(45.0, 0.5), (f32::INFINITY, strength(2000, w_s))] {
         let mut f = Fsm::new(
             FsmParams {
-                live_strength: 1,
-                saccade_yaw_deg_s: saccade,
+                escape: Escape {
+                    live_strength: 1,
+                    ..FsmParams::default().escape
+                },
+                suppression: Suppression {
+                    saccade_yaw_deg_s: saccade,
+                    ..FsmParams::default().suppression
+                },
                 ..FsmParams::default()
             },
             Behaviour::Escape,

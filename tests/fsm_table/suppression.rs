@@ -34,7 +34,10 @@ fn perception_is_ignored_while_the_robot_turns_fast() {
 #[test]
 fn the_settle_period_extends_the_suppression_after_a_fast_turn() {
     let p = FsmParams {
-        settle_frames: 3,
+        suppression: Suppression {
+            settle_frames: 3,
+            ..FsmParams::PAPER.suppression
+        },
         ..FsmParams::PAPER
     };
     let mut f = Fsm::new(p, Behaviour::Escape);
@@ -58,7 +61,10 @@ fn the_settle_period_extends_the_suppression_after_a_fast_turn() {
 #[test]
 fn alert_frames_ask_for_consecutive_alerts() {
     let p = FsmParams {
-        alert_frames: 2,
+        timing: Timing {
+            alert_frames: 2,
+            ..FsmParams::default().timing
+        },
         ..FsmParams::default()
     };
     let mut f = Fsm::new(p, Behaviour::Escape);
@@ -77,7 +83,10 @@ fn alert_frames_ask_for_consecutive_alerts() {
     // 0 behaves as 1
     let mut f = Fsm::new(
         FsmParams {
-            alert_frames: 0,
+            timing: Timing {
+                alert_frames: 0,
+                ..FsmParams::default().timing
+            },
             ..FsmParams::default()
         },
         Behaviour::Escape,

@@ -20,9 +20,9 @@ fn swarm_spins_in_place_and_never_escapes() {
         assert_eq!(c.short_phase, None);
         if c.state == State::Spin {
             // in place, turning right at the spin rate
-            let omega = (c.left_mm_s - c.right_mm_s) / p.track_mm;
+            let omega = (c.left_mm_s - c.right_mm_s) / p.motion.track_mm;
             assert!((c.left_mm_s + c.right_mm_s).abs() < 1e-3);
-            assert!((omega - p.spin_deg_s.to_radians()).abs() < 1e-3);
+            assert!((omega - p.swarm.spin_deg_s.to_radians()).abs() < 1e-3);
         } else {
             assert!(c.left_mm_s > 0.0 && c.right_mm_s > 0.0, "{i}");
         }
@@ -33,12 +33,12 @@ fn swarm_spins_in_place_and_never_escapes() {
     // spins from the first alert until `spin_frames` after the last one, without a break
     let (first, last) = (spin[0], *spin.last().unwrap());
     assert_eq!(first, 5);
-    assert_eq!(last, 25 + p.spin_frames as usize - 1);
+    assert_eq!(last, 25 + p.swarm.spin_frames as usize - 1);
     assert_eq!(spin.len(), last - first + 1);
     // it did turn: about (spin length) · rate
     let (_, h_end) = run[last];
     let (_, h_start) = run[first - 1];
-    let turned = (spin.len() as f32) * p.spin_deg_s * DT;
+    let turned = (spin.len() as f32) * p.swarm.spin_deg_s * DT;
     assert!(err(h_end, h_start + turned) < 1.0);
 }
 
@@ -69,7 +69,7 @@ fn after_a_spin_the_robot_looks_and_heads_for_the_mover() {
         60 => saw(mover),
         _ => quiet(),
     });
-    let spin_end = 5 + p.spin_frames as usize;
+    let spin_end = 5 + p.swarm.spin_frames as usize;
     assert!(run[5..spin_end].iter().all(|(c, _)| c.state == State::Spin));
     // the look follows the spin at once and stands while it looks
     assert!(run[spin_end..60]
@@ -94,9 +94,9 @@ fn after_a_spin_the_robot_looks_and_heads_for_the_mover() {
 #[test]
 fn a_look_that_sees_nothing_turns_90_and_looks_again_up_to_look_scans_times() {
     let p = params();
-    assert_eq!(p.look_scans, 3);
+    assert_eq!(p.swarm.look_scans, 3);
     let mut f = swarm_look(0.0);
-    let mut odo = Odometry::new(p.track_mm, 0.0);
+    let mut odo = Odometry::new(p.motion.track_mm, 0.0);
     let (mut looks, mut stood) = (Vec::new(), false);
     for _ in 0..400 {
         let h = odo.heading_deg();
@@ -119,7 +119,7 @@ fn a_look_that_sees_nothing_turns_90_and_looks_again_up_to_look_scans_times() {
     assert_eq!(looks.len(), 4, "{looks:?}");
     for (k, h) in looks.iter().enumerate() {
         assert!(
-            err(*h, looks[0] + 90.0 * k as f32) <= p.align_tol_deg,
+            err(*h, looks[0] + 90.0 * k as f32) <= p.motion.align_tol_deg,
             "{looks:?}"
         );
     }
@@ -131,8 +131,14 @@ fn a_look_nothing_answers_ends_after_its_own_timeout() {
     // the escape's takeoff timeout does not shorten a look
     let mut f = Fsm::new(
         FsmParams {
-            look_every: 1,
-            takeoff_timeout_frames: 20,
+            swarm: Swarm {
+                look_every: NonZeroU32::new(1),
+                ..params().swarm
+            },
+            timing: Timing {
+                takeoff_timeout_frames: 20,
+                ..params().timing
+            },
             ..params()
         },
         Behaviour::Swarm,
@@ -152,7 +158,7 @@ fn the_default_swarm_finds_a_mover_behind_it_by_looking_round() {
     let mover_deg = 200.0f32;
     let mut f = Fsm::new(p, Behaviour::Swarm);
     let mut movers = Movers::new();
-    let mut odo = Odometry::new(p.track_mm, 0.0);
+    let mut odo = Odometry::new(p.motion.track_mm, 0.0);
     let (mut standing, mut states) = (false, Vec::new());
     for i in 0..400usize {
         let h = odo.heading_deg();

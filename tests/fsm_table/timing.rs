@@ -18,7 +18,7 @@ fn escape_returns_to_wander_after_the_quiet_period() {
     let p = FsmParams::default();
     // no alert at all: Wander after max(min_escape, quiet) frames
     let (mut f, sp) = in_escape(0.0);
-    let n = p.min_escape_frames.max(p.quiet_frames);
+    let n = p.timing.min_escape_frames.max(p.timing.quiet_frames);
     for i in 1..n {
         assert_eq!(f.step(&quiet(), sp).state, State::Escape, "frame {i}");
     }
@@ -28,11 +28,14 @@ fn escape_returns_to_wander_after_the_quiet_period() {
         c.heading_setpoint_deg, sp,
         "wander holds the heading at entry"
     );
-    assert_eq!((c.left_mm_s, c.right_mm_s), (p.cruise_mm_s, p.cruise_mm_s));
+    assert_eq!(
+        (c.left_mm_s, c.right_mm_s),
+        (p.motion.cruise_mm_s, p.motion.cruise_mm_s)
+    );
 
     // an alert late in the minimum escape delays it: `quiet` frames after the last alert
     let (mut f, sp) = in_escape(0.0);
-    let last_alert = p.min_escape_frames - 2;
+    let last_alert = p.timing.min_escape_frames - 2;
     for i in 1..=last_alert {
         let vm = if i == last_alert {
             long(LEFT_X)
@@ -41,7 +44,7 @@ fn escape_returns_to_wander_after_the_quiet_period() {
         };
         assert_eq!(f.step(&vm, sp).state, State::Escape);
     }
-    for i in 1..p.quiet_frames {
+    for i in 1..p.timing.quiet_frames {
         assert_eq!(f.step(&quiet(), sp).state, State::Escape, "quiet frame {i}");
     }
     assert_eq!(f.step(&quiet(), sp).state, State::Wander);
@@ -52,7 +55,7 @@ fn takeoff_times_out_into_escape_when_the_heading_never_aligns() {
     let p = FsmParams::default();
     // long takeoff with the wheels stuck
     let (mut f, sp) = in_long(0.0);
-    for i in 1..p.takeoff_timeout_frames {
+    for i in 1..p.timing.takeoff_timeout_frames {
         assert_eq!(f.step(&quiet(), 0.0).state, State::LongTakeoff, "frame {i}");
     }
     let c = f.step(&quiet(), 0.0);
@@ -61,7 +64,7 @@ fn takeoff_times_out_into_escape_when_the_heading_never_aligns() {
 
     // short takeoff stuck in phase 1: escape holding θ²
     let (mut f, [_, sp2]) = in_short(0.0);
-    for _ in 1..p.takeoff_timeout_frames {
+    for _ in 1..p.timing.takeoff_timeout_frames {
         assert_eq!(f.step(&quiet(), 0.0).short_phase, Some(ShortPhase::Retreat));
     }
     let c = f.step(&quiet(), 0.0);
@@ -69,7 +72,7 @@ fn takeoff_times_out_into_escape_when_the_heading_never_aligns() {
 
     // short takeoff stuck in phase 2: the timeout counts from the trigger
     let (mut f, [sp1, sp2]) = in_short_turn(0.0);
-    for _ in 2..p.takeoff_timeout_frames {
+    for _ in 2..p.timing.takeoff_timeout_frames {
         assert_eq!(f.step(&quiet(), sp1).short_phase, Some(ShortPhase::Turn));
     }
     let c = f.step(&quiet(), sp1);

@@ -11,7 +11,7 @@ fn drive(
     use alvs_host::arena::controller::Controller;
     use alvs_host::arena::kinematics::{advance, body_rates, FRAME_DT_S};
     let cmd = c.step(frame, pose.heading_deg as f32);
-    let track = f64::from(alvs_tasks::model::fsm::FsmParams::default().track_mm);
+    let track = f64::from(alvs_tasks::model::fsm::FsmParams::default().motion.track_mm);
     let (v, w) = body_rates(f64::from(cmd.left_mm_s), f64::from(cmd.right_mm_s), track);
     advance(pose, v, w, FRAME_DT_S);
     cmd
@@ -45,7 +45,7 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
         while drive(&mut c, &mut pose, &still).state == "long_takeoff" {
             n += 1;
             assert!(
-                n <= p.takeoff_timeout_frames + 2,
+                n <= p.timing.takeoff_timeout_frames + 2,
                 "seed {seed}: endless turn"
             );
         }
@@ -57,13 +57,13 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
             let v = 0.5 * (cmd.left_mm_s + cmd.right_mm_s);
             assert_eq!(cmd.state, "wander", "seed {seed} frame {f} after the turn");
             assert!(
-                (v - p.cruise_mm_s).abs() < 1.0,
+                (v - p.motion.cruise_mm_s).abs() < 1.0,
                 "seed {seed}: {v} mm/s after the turn"
             );
         }
         // and the perception is live: the next looming object starts the next turn at once
         // (within the 1 s that an escape ignoring the LGMD2 would last)
-        let next = (0..p.min_escape_frames as usize)
+        let next = (0..p.timing.min_escape_frames as usize)
             .position(|t| drive(&mut c, &mut pose, &looming(t)).state == "long_takeoff");
         assert!(
             next.is_some(),

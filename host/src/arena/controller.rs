@@ -241,7 +241,9 @@ impl Lgmd2Controller {
             }
             State::LongTakeoff => {
                 let err = alvs_tasks::model::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
-                if err.abs() <= p.align_tol_deg || self.frames_in_state > p.takeoff_timeout_frames {
+                if err.abs() <= p.motion.align_tol_deg
+                    || self.frames_in_state > p.timing.takeoff_timeout_frames
+                {
                     // straight on along the new heading, perception live
                     self.enter(State::Wander);
                 }
@@ -250,7 +252,7 @@ impl Lgmd2Controller {
         }
         let v = match self.state {
             State::LongTakeoff => 0.0,
-            _ => p.cruise_mm_s,
+            _ => p.motion.cruise_mm_s,
         };
         let err = alvs_tasks::model::fsm::heading_error_deg(self.setpoint_deg, heading_deg);
         let omega = alvs_tasks::model::fsm::yaw_rate_rad_s(err, &p);

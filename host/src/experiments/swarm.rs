@@ -364,7 +364,7 @@ fn run_slice(
 /// Wheel speeds of a spin in place at the swarm's spin rate, mm/s, as the swarm robots spin
 /// (`FsmParams::spin_deg_s` through the FSM's wheel limit).
 fn leader_wheels_mm_s(fsm: &alvs_tasks::model::fsm::FsmParams) -> (f32, f32) {
-    alvs_tasks::model::fsm::mix(0.0, fsm.spin_deg_s.to_radians(), fsm)
+    alvs_tasks::model::fsm::mix(0.0, fsm.swarm.spin_deg_s.to_radians(), fsm)
 }
 
 /// Random stream of the leader's start pose.
@@ -560,17 +560,20 @@ impl Report for SwarmReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alvs_tasks::model::fsm::FsmParams;
+    use alvs_tasks::model::fsm::{FsmParams, Motion};
 
     #[test]
     fn the_leader_spins_in_place_at_the_swarms_rate_within_the_wheel_limit() {
         let p = FsmParams::default();
         let (l, r) = leader_wheels_mm_s(&p);
         assert_eq!(l, -r, "in place");
-        let yaw_deg_s = ((l - r) / p.track_mm).to_degrees();
-        assert!((yaw_deg_s - p.spin_deg_s).abs() < 1e-3, "{yaw_deg_s}");
+        let yaw_deg_s = ((l - r) / p.motion.track_mm).to_degrees();
+        assert!((yaw_deg_s - p.swarm.spin_deg_s).abs() < 1e-3, "{yaw_deg_s}");
         let slow = FsmParams {
-            max_wheel_mm_s: 20.0,
+            motion: Motion {
+                max_wheel_mm_s: 20.0,
+                ..p.motion
+            },
             ..p
         };
         assert_eq!(leader_wheels_mm_s(&slow), (20.0, -20.0));

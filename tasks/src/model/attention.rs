@@ -42,13 +42,14 @@ pub const BUSY_PCT: u32 = 10;
 /// mechanism is off (0) or not below `T_a`.
 pub fn spawn_threshold((on, off, sampled): (u32, u32, u32), p: &Params) -> u32 {
     let quiet = crate::model::param_table::off0(p.mechanisms.t_a_quiet);
-    if quiet == 0 || quiet >= p.table1.t_a {
-        return p.table1.t_a;
+    let t_a = u32::from(p.table1.t_a);
+    if quiet == 0 || quiet >= t_a {
+        return t_a;
     }
     // `sampled · BUSY_PCT` ≤ 1,782 · 10: no overflow
     let busy = (sampled * BUSY_PCT).div_ceil(100).max(1);
     let share = on.max(off).min(busy);
-    quiet + ((u64::from(p.table1.t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
+    quiet + ((u64::from(t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
 }
 
 /// One attention field.
@@ -228,7 +229,7 @@ impl Fields {
     /// raster order with a strict `>` (so ties still go to the first pixel), with no per-pixel
     /// containment test.
     pub fn spawn(&mut self, m: &Maps, w: &Weights, p: &Params) -> Option<u32> {
-        self.spawn_above(m, w, p, p.table1.t_a)
+        self.spawn_above(m, w, p, u32::from(p.table1.t_a))
     }
 
     /// [`Fields::spawn`] with the threshold `t_a` in place of `p.t_a` ([`spawn_threshold`]).
@@ -429,7 +430,7 @@ impl Fields {
                 }
             }
         }
-        self.open(best, p.table1.t_a)
+        self.open(best, u32::from(p.table1.t_a))
     }
 
     /// Eq. (4), pixel by pixel: the plain reference of [`Fields::recentre`].
@@ -829,7 +830,7 @@ mod tests {
                 c_frac in 0u8..=100,
                 gain in 1u8..=16,
                 w in prop::sample::select(&[0.0f32, 0.25, 0.3, 1.0, 4.0][..]),
-                t_a in 0u32..3000,
+                t_a in 0u16..3000,
                 table_i in any::<bool>(),
             ) {
                 // half the cases on Table I's weights, which have their own recentre path

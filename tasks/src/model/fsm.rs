@@ -32,7 +32,10 @@
 //! every `look_every` frames; Look → Wander towards a mover, or → Look 90° on (at most
 //! `look_scans` times) when it saw none, or → Wander; a threat in Look spins.
 
+use core::num::NonZeroU32;
+
 use crate::model::movers::Sighting;
+use crate::model::param_table::{param_groups, write_list, Range};
 use crate::model::progress::{self, Progress};
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
 
@@ -131,133 +134,169 @@ pub enum ShortPhase {
     Turn,
 }
 
-/// Motion parameters of the FSM. The paper gives only the wander speed (≈10 cm/s); the rest are
-/// choices for a 4 cm Colias at 30 fps. Units: mm, mm/s, degrees, frames.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FsmParams {
-    /// Wander speed, mm/s. Paper: constant velocity ≈10 cm/s.
-    pub cruise_mm_s: f32,
-    /// Escape speed at `S = 1`, mm/s; the escape runs at `S · max` with `S ∈ [0.5, 1)` (Eq. 11).
-    pub max_escape_mm_s: f32,
-    /// Reverse speed of short phase 1 at `S = 1`, mm/s (also scaled by `S`).
-    pub retreat_mm_s: f32,
-    /// Frames short phase 1 reverses at most; then it turns in place until aligned with `sp¹`.
-    /// The camera looks forward: reversing is blind. Default `u32::MAX`: the paper's γ path,
-    /// which reverses until aligned; 6 cuts wall collisions on the built-in walls but lowers
-    /// the success rate on the outdoor photographs (`docs/experiments.md`, "Closed-loop
-    /// mechanisms").
-    pub retreat_frames: u32,
-    /// Hard limit on each wheel's speed, mm/s. Turning has priority: forward speed is cut so
-    /// that `|v| + |ω|·track/2` stays below it.
-    pub max_wheel_mm_s: f32,
-    /// Distance between the wheels, mm.
-    pub track_mm: f32,
-    /// Heading P-gain, 1/s: `ω = gain · error`.
-    pub heading_gain: f32,
-    /// Yaw-rate limit of the heading controller, °/s.
-    pub max_yaw_deg_s: f32,
-    /// A set-point counts as reached when `|error| ≤` this, degrees.
-    pub align_tol_deg: f32,
-    /// Escape lasts at least this many frames before a new alert or the quiet count act.
-    pub min_escape_frames: u32,
-    /// Consecutive frames without alert that count as "escaped successfully" → Wander.
-    pub quiet_frames: u32,
-    /// A takeoff (long, or the whole short γ path) gives up turning after this many frames and
-    /// escapes anyway, so that stuck wheels or a bad heading estimate cannot spin it forever.
-    pub takeoff_timeout_frames: u32,
-    /// Swarm: the spin lasts this many frames after the last alert.
-    pub spin_frames: u32,
-    /// Swarm: yaw rate of the spin, °/s (positive = spin right). 180: perception is ignored
-    /// while the robot spins (saccadic suppression), so a spin lasts `spin_frames` = 1 s and
-    /// turns the robot half round: it leaves facing away from what it saw, as every escape
-    /// of the paper ends 180° from the threat. A full turn (360°/s) sends it back into what it
-    /// saw, and the group does not cluster (`docs/experiments.md`, "Swarm").
-    pub spin_deg_s: f32,
-    /// Saccadic suppression: while the robot turns faster than this (the yaw rate it commanded
-    /// on the previous frame, an efference copy), alerts and short mode are ignored. A turn at
-    /// hundreds of °/s sweeps the scene many pixels per frame; the correlators alias and every
-    /// quadrant fires, with a threat centroid made of self-motion. Flies suppress visual
-    /// responses during their own saccades for the same reason. `f32::INFINITY` disables it.
-    pub saccade_yaw_deg_s: f32,
-    /// Frames of perception also ignored after a fast turn has slowed below
-    /// `saccade_yaw_deg_s`: the network still holds the turn in its delay line (`C_d`) and
-    /// its fields' LPLC2 history, so the first frames after a saccade report self-motion.
-    pub settle_frames: u32,
-    /// Consecutive alert frames before the FSM acts on an alert or on the short mode. 1 acts
-    /// on a single frame; the paper's firmware waits for 3 frames above its threshold.
-    pub alert_frames: u32,
-    /// Blocked way (efference copy, [`crate::model::progress`]): frames between two views
-    /// compared. Active only when the network reports views (`Params::blocked_change` > 0).
-    pub blocked_frames: u32,
-    /// Forward travel the FSM must have commanded over those frames, mm.
-    pub blocked_travel_mm: f32,
-    /// ... while its heading changed by at most this, degrees.
-    pub blocked_yaw_deg: f32,
-    /// Moving while turning in the long takeoff: the robot drives at this fraction of the
-    /// escape speed times `cos(heading error)`, so its motion along the escape set-point is
-    /// never towards the threat: it reverses while the set-point is behind it and moves
-    /// forward once within 90°. 0 is the paper's turn in place ([`FsmParams::PAPER`]); the
-    /// default 0.5 gets the robot out of the obstacle's path while it turns (evasion
-    /// collisions 2/9 → 1/9 on the textured walls, 1/9 → 0/9 on plain ones). The escape
-    /// saccade always turns in place: driving there put the robots against the walls
-    /// (`docs/experiments.md`, "Closed-loop mechanisms").
-    pub takeoff_drive: f32,
-    /// How the escape strength `S(t)` of Eq. (11) sets the speed. 0, the default: `S` is
-    /// latched when a takeoff starts, so its escape (and its γ path) runs at the speed of the
-    /// trigger. 1: `S` follows the live response on every Escape frame whose perception is not
-    /// suppressed, Eq. (11)'s time argument taken literally (with nothing looming `S` = 0.5 and
-    /// the escape slows to half `max_escape_mm_s`). 2: also during the γ path. Measured in
-    /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
-    /// the outdoor photographs, so it stays opt-in. Values above 2 act as 2.
-    pub live_strength: u32,
-    /// Short mode during an Escape: 0 starts the paper's γ path (a new takeoff, reversing
-    /// first; [`FsmParams::PAPER`]); 1, the default, starts a saccade instead, a long takeoff
-    /// to `θ¹_short` (90° away from the threat's side, in place), then the escape goes on at
-    /// the new heading. Short mode during the saccade starts a new saccade. A fly that has
-    /// taken off answers looming ahead with a collision-avoidance saccade away from the
-    /// expanding side, not with another takeoff; and every γ path ends 180° from an `X̄` that
-    /// lies ahead, so a γ path during an escape turns the robot back towards the threat it is
-    /// fleeing. Measured in `docs/experiments.md` ("Closed-loop mechanisms"). Any value other
-    /// than 0 acts as 1. (The floor line's obstacle saccade, `Params::floor_row`, does not
-    /// depend on it: `--model paper --param floor_row=52` makes it too.)
-    pub escape_saccade: u32,
-    /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
-    /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
-    /// escape's run and the γ path keep `heading_gain`: the γ path's retreat and forward arc
-    /// need wheel speed a saturated turn would take). 1 turns like every
-    /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
-    /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
-    /// tens of degrees take most of a turn, and an obstacle first seen about a second before
-    /// contact arrives while the robot is still turning (issue 30's trace of two threats,
-    /// `docs/ablation.md`). Flies' saccades and takeoff turns take 50–100 ms.
-    pub takeoff_gain: f32,
-    /// Yaw-rate limit of those turns, °/s. The paper's model keeps `max_yaw_deg_s` (360); the
-    /// default, `f32::INFINITY`, leaves only the wheels' limit (`max_wheel_mm_s` over half the
-    /// track: 716°/s for 300 mm/s and 48 mm), what the robot can do.
-    pub takeoff_yaw_deg_s: f32,
-    /// Swarm: frames of wandering before the robot stops to look for moving objects (it also
-    /// looks after every spin). A look stands until the look beside the network reports what
-    /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
-    /// most [`LOOK_TIMEOUT_FRAMES`]); the robot then wanders towards the mover, or, with
-    /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
-    /// wanders on. A value much below a look's length leaves little wandering. Spinning and
-    /// driving robots are the movers a standing robot sees, so the group gathers where the
-    /// others spin (the paper's robots "moved toward a swarm leader", Sec. IV-D). 0 never
-    /// looks (the paper). Measured in `docs/experiments.md`, "Swarm".
-    pub look_every: u32,
-    /// Swarm: further looks, each 90° on, after a look that saw nothing; at most
-    /// [`MAX_LOOK_SCANS`] (a full circle).
-    pub look_scans: u32,
-    /// The short mode starts the γ path only in a long takeoff (the authors' firmware: an
-    /// alert in Wander or Stop starts a long takeoff, and a threat above `T_s` during it a
-    /// short one). `false` (the paper): "the current state is overridden by the short takeoff
-    /// state" (Sec. II-B), whatever it is. The escape saccade (`escape_saccade`) is not
-    /// affected.
-    pub short_from_long: bool,
-    /// After this many frames of wandering without an alert the robot stops ([`State::Stop`])
-    /// and stands until a threat comes (the authors' firmware: 1000 frames, 33 s). `None`
-    /// (the paper): it wanders on.
-    pub wander_stop_frames: Option<u32>,
+/// A real number ≥ 0, finite.
+const NON_NEG: Range = Range::Real(0.0, f32::MAX);
+/// A real number ≥ 0, or `inf`.
+const NON_NEG_INF: Range = Range::Real(0.0, f32::INFINITY);
+/// A count of frames.
+const FRAMES: Range = Range::Int(0, u32::MAX as i64);
+
+param_groups! {
+    /// Parameters of the FSM, grouped by what they are. The paper gives only the wander speed
+    /// (≈10 cm/s); the rest are choices for a 4 cm Colias at 30 fps. Units: mm, mm/s, degrees,
+    /// frames. Each is named `group.field` (or the field alone) on the command line (`--fsm`);
+    /// a switch is a `bool`, a mechanism the paper lacks that can be off an `Option`.
+    pub struct FsmParams {
+        /// The robot's motion: speeds, the wheels, the heading controller.
+        motion: Motion {
+            /// Wander speed, mm/s. Paper: constant velocity ≈10 cm/s.
+            cruise_mm_s: f32 = NON_NEG,
+            /// Escape speed at `S = 1`, mm/s; the escape runs at `S · max` with `S ∈ [0.5, 1)` (Eq. 11).
+            max_escape_mm_s: f32 = NON_NEG,
+            /// Reverse speed of short phase 1 at `S = 1`, mm/s (also scaled by `S`).
+            retreat_mm_s: f32 = NON_NEG,
+            /// Hard limit on each wheel's speed, mm/s. Turning has priority: forward speed is cut so
+            /// that `|v| + |ω|·track/2` stays below it.
+            max_wheel_mm_s: f32 = NON_NEG,
+            /// Distance between the wheels, mm.
+            track_mm: f32 = NON_NEG,
+            /// Heading P-gain, 1/s: `ω = gain · error`.
+            heading_gain: f32 = NON_NEG,
+            /// Yaw-rate limit of the heading controller, °/s.
+            max_yaw_deg_s: f32 = NON_NEG,
+            /// A set-point counts as reached when `|error| ≤` this, degrees.
+            align_tol_deg: f32 = NON_NEG,
+        },
+        /// How long the escape's states last, and how many alert frames start one.
+        timing: Timing {
+            /// Frames short phase 1 reverses at most; then it turns in place until aligned with `sp¹`.
+            /// The camera looks forward: reversing is blind. Default `u32::MAX`: the paper's γ path,
+            /// which reverses until aligned; 6 cuts wall collisions on the built-in walls but lowers
+            /// the success rate on the outdoor photographs (`docs/experiments.md`, "Closed-loop
+            /// mechanisms").
+            retreat_frames: u32 = FRAMES,
+            /// Escape lasts at least this many frames before a new alert or the quiet count act.
+            min_escape_frames: u32 = FRAMES,
+            /// Consecutive frames without alert that count as "escaped successfully" → Wander.
+            quiet_frames: u32 = FRAMES,
+            /// A takeoff (long, or the whole short γ path) gives up turning after this many frames and
+            /// escapes anyway, so that stuck wheels or a bad heading estimate cannot spin it forever.
+            takeoff_timeout_frames: u32 = FRAMES,
+            /// Consecutive alert frames before the FSM acts on an alert or on the short mode. 1 acts
+            /// on a single frame; the paper's firmware waits for 3 frames above its threshold.
+            alert_frames: u32 = FRAMES,
+        },
+        /// Saccadic suppression (an efference copy): perception ignored while, and just after,
+        /// the robot turns fast.
+        suppression: Suppression {
+            /// While the robot turns faster than this (the yaw rate it commanded on the previous
+            /// frame, an efference copy), alerts and short mode are ignored. A turn at hundreds of
+            /// °/s sweeps the scene many pixels per frame; the correlators alias and every
+            /// quadrant fires, with a threat centroid made of self-motion. Flies suppress visual
+            /// responses during their own saccades for the same reason. `f32::INFINITY` (`inf`)
+            /// disables it.
+            saccade_yaw_deg_s: f32 = NON_NEG_INF,
+            /// Frames of perception also ignored after a fast turn has slowed below
+            /// `saccade_yaw_deg_s`: the network still holds the turn in its delay line (`C_d`) and
+            /// its fields' LPLC2 history, so the first frames after a saccade report self-motion.
+            settle_frames: u32 = FRAMES,
+        },
+        /// Blocked way (efference copy, [`crate::model::progress`]): the robot drove but the view
+        /// did not change.
+        blocked: Blocked {
+            /// Frames between two views compared. Active only when the network reports views
+            /// (`Params::mechanisms.blocked_change` set).
+            blocked_frames: u32 = FRAMES,
+            /// Forward travel the FSM must have commanded over those frames, mm.
+            blocked_travel_mm: f32 = NON_NEG,
+            /// ... while its heading changed by at most this, degrees.
+            blocked_yaw_deg: f32 = NON_NEG,
+        },
+        /// The escape's closed-loop mechanisms, beyond the paper's FSM.
+        escape: Escape {
+            /// Moving while turning in the long takeoff: the robot drives at this fraction of the
+            /// escape speed times `cos(heading error)`, so its motion along the escape set-point is
+            /// never towards the threat: it reverses while the set-point is behind it and moves
+            /// forward once within 90°. 0 is the paper's turn in place ([`FsmParams::PAPER`]); the
+            /// default 0.5 gets the robot out of the obstacle's path while it turns (evasion
+            /// collisions 2/9 → 1/9 on the textured walls, 1/9 → 0/9 on plain ones). The escape
+            /// saccade always turns in place: driving there put the robots against the walls
+            /// (`docs/experiments.md`, "Closed-loop mechanisms").
+            takeoff_drive: f32 = NON_NEG,
+            /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
+            /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
+            /// escape's run and the γ path keep `heading_gain`: the γ path's retreat and forward arc
+            /// need wheel speed a saturated turn would take). 1 turns like every
+            /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
+            /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
+            /// tens of degrees take most of a turn, and an obstacle first seen about a second before
+            /// contact arrives while the robot is still turning (issue 30's trace of two threats,
+            /// `docs/ablation.md`). Flies' saccades and takeoff turns take 50–100 ms.
+            takeoff_gain: f32 = NON_NEG,
+            /// Yaw-rate limit of those turns, °/s. The paper's model keeps `max_yaw_deg_s` (360); the
+            /// default, `f32::INFINITY` (`inf`), leaves only the wheels' limit (`max_wheel_mm_s` over
+            /// half the track: 716°/s for 300 mm/s and 48 mm), what the robot can do.
+            takeoff_yaw_deg_s: f32 = NON_NEG_INF,
+            /// How the escape strength `S(t)` of Eq. (11) sets the speed. 0, the default: `S` is
+            /// latched when a takeoff starts, so its escape (and its γ path) runs at the speed of the
+            /// trigger. 1: `S` follows the live response on every Escape frame whose perception is not
+            /// suppressed, Eq. (11)'s time argument taken literally (with nothing looming `S` = 0.5 and
+            /// the escape slows to half `max_escape_mm_s`). 2: also during the γ path. Measured in
+            /// `docs/experiments.md` ("Closed-loop mechanisms"): better on the built-in walls, worse on
+            /// the outdoor photographs, so it stays opt-in.
+            live_strength: u8 = Range::Int(0, 2),
+            /// Short mode during an Escape: `false` starts the paper's γ path (a new takeoff,
+            /// reversing first; [`FsmParams::PAPER`]); `true`, the default, starts a saccade
+            /// instead, a long takeoff to `θ¹_short` (90° away from the threat's side, in place),
+            /// then the escape goes on at the new heading. Short mode during the saccade starts a
+            /// new saccade. A fly that has taken off answers looming ahead with a
+            /// collision-avoidance saccade away from the expanding side, not with another takeoff;
+            /// and every γ path ends 180° from an `X̄` that lies ahead, so a γ path during an
+            /// escape turns the robot back towards the threat it is fleeing. Measured in
+            /// `docs/experiments.md` ("Closed-loop mechanisms"). (The floor line's obstacle
+            /// saccade, `Params::efference.floor_row`, does not depend on it: `--model paper
+            /// --param floor_row=52` makes it too.)
+            escape_saccade: bool = Range::Int(0, 1),
+        },
+        /// The swarm behaviour: the spin, and the looks for moving objects.
+        swarm: Swarm {
+            /// The spin lasts this many frames after the last alert.
+            spin_frames: u32 = FRAMES,
+            /// Yaw rate of the spin, °/s (positive = spin right). 180: perception is ignored
+            /// while the robot spins (saccadic suppression), so a spin lasts `spin_frames` = 1 s and
+            /// turns the robot half round: it leaves facing away from what it saw, as every escape
+            /// of the paper ends 180° from the threat. A full turn (360°/s) sends it back into what it
+            /// saw, and the group does not cluster (`docs/experiments.md`, "Swarm").
+            spin_deg_s: f32 = NON_NEG,
+            /// Frames of wandering before the robot stops to look for moving objects (it also
+            /// looks after every spin). A look stands until the look beside the network reports what
+            /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
+            /// most [`LOOK_TIMEOUT_FRAMES`]); the robot then wanders towards the mover, or, with
+            /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
+            /// wanders on. A value much below a look's length leaves little wandering. Spinning and
+            /// driving robots are the movers a standing robot sees, so the group gathers where the
+            /// others spin (the paper's robots "moved toward a swarm leader", Sec. IV-D). `None`
+            /// (0, `none` or `off`) never looks (the paper). Measured in `docs/experiments.md`,
+            /// "Swarm".
+            look_every: Option<NonZeroU32> = FRAMES,
+            /// Further looks, each 90° on, after a look that saw nothing; at most
+            /// [`MAX_LOOK_SCANS`] (a full circle; more act as that many).
+            look_scans: u32 = FRAMES,
+        },
+        /// What the authors' public firmware's state machine does differently from the paper.
+        firmware: FirmwareFsm {
+            /// The short mode starts the γ path only in a long takeoff (the authors' firmware: an
+            /// alert in Wander or Stop starts a long takeoff, and a threat above `T_s` during it a
+            /// short one). `false` (the paper): "the current state is overridden by the short takeoff
+            /// state" (Sec. II-B), whatever it is. The escape saccade (`escape_saccade`) is not
+            /// affected.
+            short_from_long: bool = Range::Int(0, 1),
+            /// After this many frames of wandering without an alert the robot stops ([`State::Stop`])
+            /// and stands until a threat comes (the authors' firmware: 1000 frames, 33 s). `None`
+            /// (the paper): it wanders on.
+            wander_stop_frames: Option<u32> = FRAMES,
+        },
+    }
 }
 
 impl Default for FsmParams {
@@ -272,35 +311,49 @@ impl FsmParams {
     /// from every state) with the choices the paper leaves open (speeds, rates, durations;
     /// `docs/model.md`).
     pub const PAPER: FsmParams = FsmParams {
-        cruise_mm_s: 100.0,
-        max_escape_mm_s: 200.0,
-        retreat_mm_s: 150.0,
-        retreat_frames: u32::MAX,
-        max_wheel_mm_s: 300.0,
-        track_mm: 48.0,
-        heading_gain: 4.0,
-        max_yaw_deg_s: 360.0,
-        align_tol_deg: 10.0,
-        min_escape_frames: 30,
-        quiet_frames: 15,
-        takeoff_timeout_frames: 90,
-        spin_frames: 30,
-        spin_deg_s: 180.0,
-        saccade_yaw_deg_s: 45.0,
-        settle_frames: 0,
-        alert_frames: 1,
-        blocked_frames: 15,
-        blocked_travel_mm: 40.0,
-        blocked_yaw_deg: 10.0,
-        takeoff_drive: 0.0,
-        live_strength: 0,
-        escape_saccade: 0,
-        takeoff_gain: 1.0,
-        takeoff_yaw_deg_s: 360.0,
-        look_every: 0,
-        look_scans: 3,
-        short_from_long: false,
-        wander_stop_frames: None,
+        motion: Motion {
+            cruise_mm_s: 100.0,
+            max_escape_mm_s: 200.0,
+            retreat_mm_s: 150.0,
+            max_wheel_mm_s: 300.0,
+            track_mm: 48.0,
+            heading_gain: 4.0,
+            max_yaw_deg_s: 360.0,
+            align_tol_deg: 10.0,
+        },
+        timing: Timing {
+            retreat_frames: u32::MAX,
+            min_escape_frames: 30,
+            quiet_frames: 15,
+            takeoff_timeout_frames: 90,
+            alert_frames: 1,
+        },
+        suppression: Suppression {
+            saccade_yaw_deg_s: 45.0,
+            settle_frames: 0,
+        },
+        blocked: Blocked {
+            blocked_frames: 15,
+            blocked_travel_mm: 40.0,
+            blocked_yaw_deg: 10.0,
+        },
+        escape: Escape {
+            takeoff_drive: 0.0,
+            takeoff_gain: 1.0,
+            takeoff_yaw_deg_s: 360.0,
+            live_strength: 0,
+            escape_saccade: false,
+        },
+        swarm: Swarm {
+            spin_frames: 30,
+            spin_deg_s: 180.0,
+            look_every: None,
+            look_scans: 3,
+        },
+        firmware: FirmwareFsm {
+            short_from_long: false,
+            wander_stop_frames: None,
+        },
     };
 
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
@@ -309,11 +362,17 @@ impl FsmParams {
     /// it turns, takeoff turns three times as brisk and limited by the wheels only, and the
     /// swarm's looks.
     pub const ALVS: FsmParams = FsmParams {
-        escape_saccade: 1,
-        takeoff_drive: 0.5,
-        takeoff_gain: 3.0,
-        takeoff_yaw_deg_s: f32::INFINITY,
-        look_every: 45,
+        escape: Escape {
+            escape_saccade: true,
+            takeoff_drive: 0.5,
+            takeoff_gain: 3.0,
+            takeoff_yaw_deg_s: f32::INFINITY,
+            ..FsmParams::PAPER.escape
+        },
+        swarm: Swarm {
+            look_every: NonZeroU32::new(45),
+            ..FsmParams::PAPER.swarm
+        },
         ..FsmParams::PAPER
     };
 
@@ -325,20 +384,34 @@ impl FsmParams {
     /// escape and reverse speed (4.5 of its units where wandering is 2.5: 180 mm/s) and its
     /// heading PID's gain and limit in the same units.
     pub const FIRMWARE: FsmParams = FsmParams {
-        max_escape_mm_s: 180.0,
-        retreat_mm_s: 180.0,
-        max_wheel_mm_s: 180.0,
-        heading_gain: 6.2,
-        max_yaw_deg_s: 239.0,
-        // its takeoffs turn with the same PID
-        takeoff_yaw_deg_s: 239.0,
-        min_escape_frames: 0,
-        quiet_frames: 0,
-        takeoff_timeout_frames: u32::MAX,
-        saccade_yaw_deg_s: f32::INFINITY,
-        alert_frames: 3,
-        short_from_long: true,
-        wander_stop_frames: Some(1000),
+        motion: Motion {
+            max_escape_mm_s: 180.0,
+            retreat_mm_s: 180.0,
+            max_wheel_mm_s: 180.0,
+            heading_gain: 6.2,
+            max_yaw_deg_s: 239.0,
+            ..FsmParams::PAPER.motion
+        },
+        escape: Escape {
+            // its takeoffs turn with the same PID
+            takeoff_yaw_deg_s: 239.0,
+            ..FsmParams::PAPER.escape
+        },
+        timing: Timing {
+            min_escape_frames: 0,
+            quiet_frames: 0,
+            takeoff_timeout_frames: u32::MAX,
+            alert_frames: 3,
+            ..FsmParams::PAPER.timing
+        },
+        suppression: Suppression {
+            saccade_yaw_deg_s: f32::INFINITY,
+            ..FsmParams::PAPER.suppression
+        },
+        firmware: FirmwareFsm {
+            short_from_long: true,
+            wander_stop_frames: Some(1000),
+        },
         ..FsmParams::PAPER
     };
 
@@ -355,102 +428,34 @@ impl FsmParams {
         }
     }
 
-    /// Names accepted by [`FsmParams::set`], in declaration order.
-    pub const NAMES: [&'static str; 29] = [
-        "cruise_mm_s",
-        "max_escape_mm_s",
-        "retreat_mm_s",
-        "max_wheel_mm_s",
-        "track_mm",
-        "heading_gain",
-        "max_yaw_deg_s",
-        "align_tol_deg",
-        "min_escape_frames",
-        "quiet_frames",
-        "takeoff_timeout_frames",
-        "spin_frames",
-        "spin_deg_s",
-        "saccade_yaw_deg_s",
-        "settle_frames",
-        "alert_frames",
-        "blocked_frames",
-        "blocked_travel_mm",
-        "blocked_yaw_deg",
-        "retreat_frames",
-        "takeoff_drive",
-        "live_strength",
-        "escape_saccade",
-        "takeoff_gain",
-        "takeoff_yaw_deg_s",
-        "look_every",
-        "look_scans",
-        "short_from_long",
-        "wander_stop_frames",
-    ];
+    /// The allowed values of the parameter `name` (`group.field` or the field alone), `None`
+    /// for an unknown name.
+    pub fn range(name: &str) -> Option<Range> {
+        FsmParams::position(name).map(|i| FsmParams::RANGES[i])
+    }
 
-    /// Sets one parameter by name from its text value (a command line's `NAME=VALUE`). Reals
-    /// must be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
-    /// `takeoff_yaw_deg_s` too: the wheels' limit); counts are whole frames; `live_strength`
-    /// is 0, 1 or 2, `escape_saccade` and `short_from_long` 0 or 1; `wander_stop_frames` a
-    /// count or `none`. A refused value leaves the parameters unchanged.
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
-        let v = value.trim();
-        let name: &'static str = FsmParams::NAMES
-            .into_iter()
-            .find(|n| *n == name)
-            .ok_or(FsmParamError::Unknown)?;
-        let real = |allow_inf: bool| -> Result<f32, FsmParamError> {
-            match v.parse::<f32>() {
-                Ok(x) if x >= 0.0 && (x.is_finite() || (allow_inf && x == f32::INFINITY)) => Ok(x),
-                _ => Err(FsmParamError::Invalid { name }),
-            }
-        };
-        let count = || {
-            v.parse::<u32>()
-                .map_err(|_| FsmParamError::Invalid { name })
-        };
-        // a mode: a count in 0..=max
-        let mode = |max: u32| {
-            count().and_then(|n| {
-                (n <= max)
-                    .then_some(n)
-                    .ok_or(FsmParamError::Invalid { name })
-            })
-        };
-        let p = self;
-        match name {
-            "cruise_mm_s" => p.cruise_mm_s = real(false)?,
-            "max_escape_mm_s" => p.max_escape_mm_s = real(false)?,
-            "retreat_mm_s" => p.retreat_mm_s = real(false)?,
-            "max_wheel_mm_s" => p.max_wheel_mm_s = real(false)?,
-            "track_mm" => p.track_mm = real(false)?,
-            "heading_gain" => p.heading_gain = real(false)?,
-            "max_yaw_deg_s" => p.max_yaw_deg_s = real(false)?,
-            "align_tol_deg" => p.align_tol_deg = real(false)?,
-            "min_escape_frames" => p.min_escape_frames = count()?,
-            "quiet_frames" => p.quiet_frames = count()?,
-            "takeoff_timeout_frames" => p.takeoff_timeout_frames = count()?,
-            "spin_frames" => p.spin_frames = count()?,
-            "spin_deg_s" => p.spin_deg_s = real(false)?,
-            "saccade_yaw_deg_s" => p.saccade_yaw_deg_s = real(true)?,
-            "settle_frames" => p.settle_frames = count()?,
-            "alert_frames" => p.alert_frames = count()?,
-            "blocked_frames" => p.blocked_frames = count()?,
-            "blocked_travel_mm" => p.blocked_travel_mm = real(false)?,
-            "blocked_yaw_deg" => p.blocked_yaw_deg = real(false)?,
-            "retreat_frames" => p.retreat_frames = count()?,
-            "escape_saccade" => p.escape_saccade = mode(1)?,
-            "live_strength" => p.live_strength = mode(2)?,
-            "takeoff_gain" => p.takeoff_gain = real(false)?,
-            "takeoff_yaw_deg_s" => p.takeoff_yaw_deg_s = real(true)?,
-            "look_every" => p.look_every = count()?,
-            "look_scans" => p.look_scans = count()?,
-            "short_from_long" => p.short_from_long = mode(1)? != 0,
-            "wander_stop_frames" => {
-                p.wander_stop_frames = if v == "none" { None } else { Some(count()?) }
-            }
-            _ => p.takeoff_drive = real(false)?,
+    /// Checks every value is in its range; the name (`group.field`) of the first that is not.
+    pub fn validate(&self) -> Result<(), FsmParamError> {
+        match self.out_of_range() {
+            Some((name, _)) => Err(FsmParamError::Invalid { name }),
+            None => Ok(()),
         }
+    }
+
+    /// Sets one parameter by name (`group.field` or the field alone, [`FsmParams::NAMES`],
+    /// [`FsmParams::FIELDS`]) from its text value (a command line's `NAME=VALUE`). Reals must
+    /// be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
+    /// `takeoff_yaw_deg_s` too: the wheels' limit); counts are whole frames; `live_strength`
+    /// is 0, 1 or 2; a switch (`escape_saccade`, `short_from_long`) takes `true`/`false` (or
+    /// `1`/`0`, `on`/`off`); `look_every` 0, `none` or `off` for never; `wander_stop_frames`
+    /// a count or `none`. A refused value leaves the parameters unchanged.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
+        let i = FsmParams::position(name).ok_or(FsmParamError::Unknown)?;
+        let name = FsmParams::NAMES[i];
+        let mut p = *self;
+        p.parse_field(name, value.trim())
+            .map_err(|_| FsmParamError::Invalid { name })?;
+        *self = p;
         Ok(())
     }
 }
@@ -460,63 +465,30 @@ impl FsmParams {
 pub enum FsmParamError {
     /// No FSM parameter has that name (see [`FsmParams::NAMES`]).
     Unknown,
-    /// Not a non-negative number (reals), a whole number of frames (counts), or one of the
-    /// listed modes (`live_strength` 0–2, `escape_saccade` and `short_from_long` 0–1;
-    /// `wander_stop_frames` also `none`).
+    /// Not a value in the parameter's range ([`FsmParams::RANGES`]); the message says which.
     Invalid {
-        /// Parameter name.
+        /// Parameter name, `group.field`.
         name: &'static str,
     },
 }
 
 impl core::fmt::Display for FsmParamError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
+        match *self {
             FsmParamError::Unknown => {
                 f.write_str("unknown FSM parameter (known: ")?;
-                for (i, n) in FsmParams::NAMES.iter().enumerate() {
-                    if i > 0 {
-                        f.write_str(", ")?;
-                    }
-                    f.write_str(n)?;
-                }
+                write_list(f, FsmParams::NAMES)?;
                 f.write_str(")")
             }
-            // the counts are the `*_frames` parameters; `saccade_yaw_deg_s` may be `inf`
-            FsmParamError::Invalid { name } if *name == "wander_stop_frames" => write!(
-                f,
-                "FSM parameter {name} must be a whole number of frames in 0..={} or none",
-                u32::MAX
-            ),
-            FsmParamError::Invalid { name } if name.ends_with("_frames") => write!(
-                f,
-                "FSM parameter {name} must be a whole number of frames in 0..={}",
-                u32::MAX
-            ),
-            FsmParamError::Invalid { name } if *name == "escape_saccade" => write!(
-                f,
-                "FSM parameter {name} must be 0 (γ path, the paper) or 1 (saccade to θ¹)"
-            ),
-            FsmParamError::Invalid { name } if *name == "live_strength" => write!(
-                f,
-                "FSM parameter {name} must be 0 (latched), 1 (escape) or 2 (escape and γ path)"
-            ),
-            FsmParamError::Invalid { name } if *name == "short_from_long" => write!(
-                f,
-                "FSM parameter {name} must be 0 (short mode from every state, the paper) or 1 \
-                 (only in a long takeoff)"
-            ),
-            FsmParamError::Invalid { name } if *name == "saccade_yaw_deg_s" => write!(
-                f,
-                "FSM parameter {name} must be a number ≥ 0, or inf (no suppression)"
-            ),
-            FsmParamError::Invalid { name } if *name == "takeoff_yaw_deg_s" => write!(
-                f,
-                "FSM parameter {name} must be a number ≥ 0, or inf (the wheels' limit)"
-            ),
-            FsmParamError::Invalid { name } => {
-                write!(f, "FSM parameter {name} must be a finite number ≥ 0")
-            }
+            FsmParamError::Invalid { name } => match FsmParams::position(name) {
+                Some(i) => write!(
+                    f,
+                    "FSM parameter {name} must be {}{}",
+                    FsmParams::RANGES[i],
+                    FsmParams::WORDS[i]
+                ),
+                None => write!(f, "FSM parameter {name}: not a valid value"),
+            },
         }
     }
 }
@@ -571,19 +543,19 @@ pub fn heading_error_deg(setpoint_deg: f32, heading_deg: f32) -> f32 {
 
 /// P heading controller: `ω = clamp(gain · error, ±max yaw rate)`, in rad/s, positive = right.
 pub fn yaw_rate_rad_s(error_deg: f32, p: &FsmParams) -> f32 {
-    limit(p.heading_gain * error_deg, p.max_yaw_deg_s).to_radians()
+    limit(p.motion.heading_gain * error_deg, p.motion.max_yaw_deg_s).to_radians()
 }
 
 /// Differential-drive mixing: `left = v + ω·track/2`, `right = v − ω·track/2` (ω in rad/s,
 /// positive = right turn), in mm/s. Each wheel stays within `max_wheel_mm_s`; the turn keeps
 /// priority over the forward speed so that heading control survives saturation.
 pub fn mix(v_mm_s: f32, omega_rad_s: f32, p: &FsmParams) -> (f32, f32) {
-    let half_track = if p.track_mm.is_finite() && p.track_mm > 0.0 {
-        p.track_mm / 2.0
+    let half_track = if p.motion.track_mm.is_finite() && p.motion.track_mm > 0.0 {
+        p.motion.track_mm / 2.0
     } else {
         0.0
     };
-    let max = limit(p.max_wheel_mm_s, f32::MAX).abs();
+    let max = limit(p.motion.max_wheel_mm_s, f32::MAX).abs();
     let turn = limit(omega_rad_s * half_track, max);
     let v = limit(v_mm_s, max - turn.abs());
     (v + turn, v - turn)
@@ -685,8 +657,8 @@ impl Fsm {
             self.enter_wander(h);
         }
         let ignored = self.suppressed();
-        if self.last_yaw_deg_s > self.params.saccade_yaw_deg_s {
-            self.settle = self.params.settle_frames;
+        if self.last_yaw_deg_s > self.params.suppression.saccade_yaw_deg_s {
+            self.settle = self.params.suppression.settle_frames;
         } else {
             self.settle = self.settle.saturating_sub(1);
         }
@@ -695,7 +667,7 @@ impl Fsm {
         } else {
             0
         };
-        let acts = self.alert_run >= self.params.alert_frames.max(1);
+        let acts = self.alert_run >= self.params.timing.alert_frames.max(1);
         let gated;
         let vm = if !acts {
             gated = Visuomotor {
@@ -727,7 +699,7 @@ impl Fsm {
     /// since the last view compared, and the view barely changed.
     fn blocked(&mut self, vm: &Visuomotor, h: f32) -> bool {
         let p = self.params;
-        let Some((view, level)) = vm.view.filter(|_| p.blocked_frames > 0) else {
+        let Some((view, level)) = vm.view.filter(|_| p.blocked.blocked_frames > 0) else {
             self.progress = Progress::NEW;
             return false;
         };
@@ -735,12 +707,12 @@ impl Fsm {
         g.frames = g.frames.saturating_add(1);
         // efference copy: the travel this FSM commanded over the last frame (30 fps)
         g.travel_mm += self.last_forward_mm_s / 30.0;
-        if g.snapshot.is_some() && g.frames < p.blocked_frames {
+        if g.snapshot.is_some() && g.frames < p.blocked.blocked_frames {
             return false;
         }
         let blocked = g.snapshot.is_some_and(|old| {
-            g.travel_mm >= p.blocked_travel_mm
-                && heading_error_deg(g.heading_deg, h).abs() <= p.blocked_yaw_deg
+            g.travel_mm >= p.blocked.blocked_travel_mm
+                && heading_error_deg(g.heading_deg, h).abs() <= p.blocked.blocked_yaw_deg
                 && progress::change(&old, &view) < level
         });
         *g = Progress {
@@ -764,7 +736,7 @@ impl Fsm {
     /// Whether the next frame's perception will be ignored (the robot is turning fast, or
     /// settling after a fast turn).
     pub fn suppressed(&self) -> bool {
-        self.last_yaw_deg_s > self.params.saccade_yaw_deg_s || self.settle > 0
+        self.last_yaw_deg_s > self.params.suppression.saccade_yaw_deg_s || self.settle > 0
     }
 
     /// Takes this frame's `S(t)` as the escape strength, clamped to [0, 1].
@@ -774,7 +746,7 @@ impl Fsm {
 
     /// Whether this frame's `S(t)` replaces the latched strength (`FsmParams::live_strength`).
     fn follows_strength(&self, ignored: bool) -> bool {
-        let live = self.params.live_strength;
+        let live = self.params.escape.live_strength;
         !ignored
             && match self.state {
                 State::Escape => live >= 1,
@@ -836,7 +808,7 @@ impl Fsm {
         // started, starts a (new) saccade to θ¹ instead of a γ path.
         let in_flight =
             self.state == State::Escape || (self.state == State::LongTakeoff && self.saccade);
-        if vm.short_mode && in_flight && self.params.escape_saccade != 0 {
+        if vm.short_mode && in_flight && self.params.escape.escape_saccade {
             if let Some([t1, _]) = vm.theta_short {
                 self.enter_saccade(h, t1);
                 self.latch_strength(vm);
@@ -847,7 +819,7 @@ impl Fsm {
         // θ_short is relative to the heading, so re-latching each frame while the robot turns
         // would move the set-points with it and the path would never end.
         // `FsmParams::short_from_long`: only a long takeoff turns into a short one
-        let may_short = !self.params.short_from_long || self.state == State::LongTakeoff;
+        let may_short = !self.params.firmware.short_from_long || self.state == State::LongTakeoff;
         if vm.short_mode && self.state != State::ShortTakeoff && may_short {
             if let Some([t1, t2]) = vm.theta_short {
                 self.state = State::ShortTakeoff;
@@ -861,7 +833,7 @@ impl Fsm {
             }
         }
         let p = self.params;
-        let aligned = |sp: f32| heading_error_deg(sp, h).abs() <= p.align_tol_deg;
+        let aligned = |sp: f32| heading_error_deg(sp, h).abs() <= p.motion.align_tol_deg;
         match self.state {
             // Spin and Look belong to the swarm behaviour; should one be current here, act as
             // Wander.
@@ -873,14 +845,17 @@ impl Fsm {
                 } else if self.state == State::Wander {
                     // `FsmParams::wander_stop_frames`: a long quiet wander ends standing
                     self.frames = self.frames.saturating_add(1);
-                    if p.wander_stop_frames.is_some_and(|n| self.frames > n) {
+                    if p.firmware
+                        .wander_stop_frames
+                        .is_some_and(|n| self.frames > n)
+                    {
                         self.enter_stop(h);
                     }
                 }
             }
             State::LongTakeoff => {
                 self.frames = self.frames.saturating_add(1);
-                if aligned(self.setpoint) || self.frames >= p.takeoff_timeout_frames {
+                if aligned(self.setpoint) || self.frames >= p.timing.takeoff_timeout_frames {
                     self.enter_escape(self.setpoint);
                 }
             }
@@ -897,16 +872,16 @@ impl Fsm {
                 // 180° from something ahead heads back towards what the robot flees. Saccades
                 // may follow one another: in a corner that is how the robot finds the way out
                 // (bounding them at 3 or 8 in a row cost 0.6–1.9 points of success).
-                if self.frames < p.min_escape_frames {
+                if self.frames < p.timing.min_escape_frames {
                     if let Some(t1) = vm.obstacle {
                         self.enter_saccade(h, t1);
                         return;
                     }
                 }
-                if self.frames >= p.min_escape_frames {
+                if self.frames >= p.timing.min_escape_frames {
                     if vm.alert {
                         self.enter_long(vm, h);
-                    } else if self.quiet >= p.quiet_frames {
+                    } else if self.quiet >= p.timing.quiet_frames {
                         self.enter_wander(h);
                     }
                 }
@@ -918,7 +893,7 @@ impl Fsm {
                 }
                 let done = self.short_phase == Some(ShortPhase::Turn) && aligned(self.setpoint2);
                 // The timeout covers the whole γ path: either phase may be stuck.
-                if done || self.frames >= p.takeoff_timeout_frames {
+                if done || self.frames >= p.timing.takeoff_timeout_frames {
                     self.enter_escape(self.setpoint2);
                 }
             }
@@ -937,7 +912,7 @@ impl Fsm {
                 } else {
                     self.frames.saturating_add(1)
                 };
-                if self.frames >= p.spin_frames {
+                if self.frames >= p.swarm.spin_frames {
                     self.enter_look_or_wander(h);
                 }
             }
@@ -972,7 +947,7 @@ impl Fsm {
             }
             State::Wander => {
                 self.frames = self.frames.saturating_add(1);
-                if p.look_every > 0 && self.frames >= p.look_every {
+                if p.swarm.look_every.is_some_and(|n| self.frames >= n.get()) {
                     self.enter_look(h);
                 }
             }
@@ -982,7 +957,7 @@ impl Fsm {
     }
 
     fn enter_look_or_wander(&mut self, h: f32) {
-        if self.params.look_every > 0 {
+        if self.params.swarm.look_every.is_some() {
             self.enter_look(h);
         } else {
             self.enter_wander(h);
@@ -994,7 +969,7 @@ impl Fsm {
         self.short_phase = None;
         self.setpoint = h;
         self.frames = 0;
-        self.scans = self.params.look_scans.min(MAX_LOOK_SCANS);
+        self.scans = self.params.swarm.look_scans.min(MAX_LOOK_SCANS);
     }
 
     /// Wheel speeds of the current state.
@@ -1002,24 +977,26 @@ impl Fsm {
         let p = &self.params;
         let s = self.strength;
         let (v, omega) = match self.state {
-            State::Wander => (p.cruise_mm_s, self.steer(self.setpoint, h)),
+            State::Wander => (p.motion.cruise_mm_s, self.steer(self.setpoint, h)),
             // a saccade turns in place; a takeoff may drive while it turns
             State::LongTakeoff if self.saccade => (0.0, self.takeoff_turn(self.setpoint, h)),
             State::LongTakeoff => {
                 let err = heading_error_deg(self.setpoint, h).to_radians();
-                let v = p.takeoff_drive * s * p.max_escape_mm_s * libm::cosf(err);
+                let v = p.escape.takeoff_drive * s * p.motion.max_escape_mm_s * libm::cosf(err);
                 (v, self.takeoff_turn(self.setpoint, h))
             }
-            State::Escape => (s * p.max_escape_mm_s, self.steer(self.setpoint, h)),
+            State::Escape => (s * p.motion.max_escape_mm_s, self.steer(self.setpoint, h)),
             State::ShortTakeoff => match self.short_phase {
-                Some(ShortPhase::Turn) => (s * p.max_escape_mm_s, self.steer(self.setpoint2, h)),
+                Some(ShortPhase::Turn) => {
+                    (s * p.motion.max_escape_mm_s, self.steer(self.setpoint2, h))
+                }
                 // phase 1: reverse for at most `retreat_frames` (frames count from the entry)
-                _ if self.frames >= p.retreat_frames => (0.0, self.steer(self.setpoint, h)),
-                _ => (-s * p.retreat_mm_s, self.steer(self.setpoint, h)),
+                _ if self.frames >= p.timing.retreat_frames => (0.0, self.steer(self.setpoint, h)),
+                _ => (-s * p.motion.retreat_mm_s, self.steer(self.setpoint, h)),
             },
-            State::Spin => (0.0, p.spin_deg_s.to_radians()),
+            State::Spin => (0.0, p.swarm.spin_deg_s.to_radians()),
             // stand to look once facing the direction to look in
-            State::Look if heading_error_deg(self.setpoint, h).abs() <= p.align_tol_deg => {
+            State::Look if heading_error_deg(self.setpoint, h).abs() <= p.motion.align_tol_deg => {
                 (0.0, 0.0)
             }
             State::Look => (0.0, self.steer(self.setpoint, h)),
@@ -1039,12 +1016,12 @@ impl Fsm {
     /// The yaw rate of an escape's turn (`FsmParams::takeoff_gain`, `takeoff_yaw_deg_s`), rad/s.
     fn takeoff_turn(&self, setpoint: f32, h: f32) -> f32 {
         let p = &self.params;
-        let yaw = p.takeoff_gain * p.heading_gain * heading_error_deg(setpoint, h);
+        let yaw = p.escape.takeoff_gain * p.motion.heading_gain * heading_error_deg(setpoint, h);
         // an unbounded limit leaves the turn to the wheels' (`mix`)
-        let yaw = if p.takeoff_yaw_deg_s == f32::INFINITY && !yaw.is_nan() {
+        let yaw = if p.escape.takeoff_yaw_deg_s == f32::INFINITY && !yaw.is_nan() {
             yaw
         } else {
-            limit(yaw, p.takeoff_yaw_deg_s)
+            limit(yaw, p.escape.takeoff_yaw_deg_s)
         };
         yaw.to_radians()
     }
@@ -1132,16 +1109,28 @@ mod tests {
     }
 
     #[test]
+    fn the_groups_cost_no_ram() {
+        // the flat struct before the groups took 120 bytes
+        assert_eq!(core::mem::size_of::<FsmParams>(), 116);
+    }
+
+    #[test]
     fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
         // the default is the paper's plus the escape saccade, the moving takeoff, brisk
         // saccades and the swarm's looks, nothing else
         assert_eq!(
             FsmParams {
-                escape_saccade: 0,
-                takeoff_drive: 0.0,
-                takeoff_gain: 1.0,
-                takeoff_yaw_deg_s: 360.0,
-                look_every: 0,
+                escape: Escape {
+                    escape_saccade: false,
+                    takeoff_drive: 0.0,
+                    takeoff_gain: 1.0,
+                    takeoff_yaw_deg_s: 360.0,
+                    ..FsmParams::default().escape
+                },
+                swarm: Swarm {
+                    look_every: None,
+                    ..FsmParams::default().swarm
+                },
                 ..FsmParams::default()
             },
             FsmParams::PAPER
@@ -1149,25 +1138,25 @@ mod tests {
         let a = FsmParams::ALVS;
         assert_eq!(
             (
-                a.escape_saccade,
-                a.takeoff_drive,
-                a.takeoff_gain,
-                a.takeoff_yaw_deg_s,
-                a.look_every
+                a.escape.escape_saccade,
+                a.escape.takeoff_drive,
+                a.escape.takeoff_gain,
+                a.escape.takeoff_yaw_deg_s,
+                a.swarm.look_every
             ),
-            (1, 0.5, 3.0, f32::INFINITY, 45)
+            (true, 0.5, 3.0, f32::INFINITY, NonZeroU32::new(45))
         );
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
         // retreat: the paper's FSM (docs/model.md)
         assert_eq!(
             (
-                p.escape_saccade,
-                p.live_strength,
-                p.takeoff_drive,
-                p.retreat_frames
+                p.escape.escape_saccade,
+                p.escape.live_strength,
+                p.escape.takeoff_drive,
+                p.timing.retreat_frames
             ),
-            (0, 0, 0.0, u32::MAX)
+            (false, 0, 0.0, u32::MAX)
         );
     }
 
@@ -1176,42 +1165,70 @@ mod tests {
         let (p, fw) = (FsmParams::PAPER, FsmParams::FIRMWARE);
         // docs/notes/2026-11-27-authors-firmware.md: each value and its source line
         assert_eq!(
-            (fw.max_escape_mm_s, fw.retreat_mm_s, fw.max_wheel_mm_s),
+            (
+                fw.motion.max_escape_mm_s,
+                fw.motion.retreat_mm_s,
+                fw.motion.max_wheel_mm_s
+            ),
             (180.0, 180.0, 180.0)
         );
         assert_eq!(
-            (fw.heading_gain, fw.max_yaw_deg_s, fw.takeoff_yaw_deg_s),
+            (
+                fw.motion.heading_gain,
+                fw.motion.max_yaw_deg_s,
+                fw.escape.takeoff_yaw_deg_s
+            ),
             (6.2, 239.0, 239.0)
         );
-        assert_eq!((fw.min_escape_frames, fw.quiet_frames), (0, 0));
-        assert_eq!(fw.takeoff_timeout_frames, u32::MAX);
-        assert_eq!(fw.saccade_yaw_deg_s, f32::INFINITY);
-        assert_eq!(fw.alert_frames, 3);
-        assert!(fw.short_from_long);
-        assert_eq!(fw.wander_stop_frames, Some(1000));
-        assert_eq!((p.short_from_long, p.wander_stop_frames), (false, None));
+        assert_eq!(
+            (fw.timing.min_escape_frames, fw.timing.quiet_frames),
+            (0, 0)
+        );
+        assert_eq!(fw.timing.takeoff_timeout_frames, u32::MAX);
+        assert_eq!(fw.suppression.saccade_yaw_deg_s, f32::INFINITY);
+        assert_eq!(fw.timing.alert_frames, 3);
+        assert!(fw.firmware.short_from_long);
+        assert_eq!(fw.firmware.wander_stop_frames, Some(1000));
+        assert_eq!(
+            (p.firmware.short_from_long, p.firmware.wander_stop_frames),
+            (false, None)
+        );
         assert_eq!(
             (
-                FsmParams::ALVS.short_from_long,
-                FsmParams::ALVS.wander_stop_frames
+                FsmParams::ALVS.firmware.short_from_long,
+                FsmParams::ALVS.firmware.wander_stop_frames
             ),
             (false, None)
         );
         assert_eq!(
             FsmParams {
-                max_escape_mm_s: p.max_escape_mm_s,
-                retreat_mm_s: p.retreat_mm_s,
-                max_wheel_mm_s: p.max_wheel_mm_s,
-                heading_gain: p.heading_gain,
-                max_yaw_deg_s: p.max_yaw_deg_s,
-                takeoff_yaw_deg_s: p.takeoff_yaw_deg_s,
-                min_escape_frames: p.min_escape_frames,
-                quiet_frames: p.quiet_frames,
-                takeoff_timeout_frames: p.takeoff_timeout_frames,
-                saccade_yaw_deg_s: p.saccade_yaw_deg_s,
-                alert_frames: p.alert_frames,
-                short_from_long: p.short_from_long,
-                wander_stop_frames: p.wander_stop_frames,
+                motion: Motion {
+                    max_escape_mm_s: p.motion.max_escape_mm_s,
+                    retreat_mm_s: p.motion.retreat_mm_s,
+                    max_wheel_mm_s: p.motion.max_wheel_mm_s,
+                    heading_gain: p.motion.heading_gain,
+                    max_yaw_deg_s: p.motion.max_yaw_deg_s,
+                    ..fw.motion
+                },
+                escape: Escape {
+                    takeoff_yaw_deg_s: p.escape.takeoff_yaw_deg_s,
+                    ..fw.escape
+                },
+                timing: Timing {
+                    min_escape_frames: p.timing.min_escape_frames,
+                    quiet_frames: p.timing.quiet_frames,
+                    takeoff_timeout_frames: p.timing.takeoff_timeout_frames,
+                    alert_frames: p.timing.alert_frames,
+                    ..fw.timing
+                },
+                suppression: Suppression {
+                    saccade_yaw_deg_s: p.suppression.saccade_yaw_deg_s,
+                    ..fw.suppression
+                },
+                firmware: FirmwareFsm {
+                    short_from_long: p.firmware.short_from_long,
+                    wander_stop_frames: p.firmware.wander_stop_frames
+                },
                 ..fw
             },
             p
@@ -1219,7 +1236,10 @@ mod tests {
         assert_eq!(fw.preset_name(), "firmware");
         assert_eq!(
             FsmParams {
-                alert_frames: 1,
+                timing: Timing {
+                    alert_frames: 1,
+                    ..fw.timing
+                },
                 ..fw
             }
             .preset_name(),
@@ -1243,7 +1263,10 @@ mod tests {
     #[test]
     fn mixing_saturates_with_turn_priority() {
         let p = FsmParams {
-            max_wheel_mm_s: 100.0,
+            motion: Motion {
+                max_wheel_mm_s: 100.0,
+                ..FsmParams::default().motion
+            },
             ..FsmParams::default()
         };
         // 2 rad/s · 24 mm = 48 mm/s of turn leaves 52 mm/s of forward speed
@@ -1255,8 +1278,11 @@ mod tests {
         // garbage gives zero, not a panic
         assert_eq!(mix(f32::NAN, f32::NAN, &p), (0.0, 0.0));
         let bad = FsmParams {
-            max_wheel_mm_s: f32::NAN,
-            track_mm: -1.0,
+            motion: Motion {
+                max_wheel_mm_s: f32::NAN,
+                track_mm: -1.0,
+                ..p.motion
+            },
             ..p
         };
         assert_eq!(mix(100.0, 1.0, &bad), (0.0, 0.0));
@@ -1339,9 +1365,12 @@ mod tests {
     fn a_long_takeoff_can_move_away_while_it_turns() {
         // the paper's turn rate: the default's brisk turn takes all the wheels' speed at first
         let p = FsmParams {
-            takeoff_drive: 1.0,
-            takeoff_gain: 1.0,
-            takeoff_yaw_deg_s: 360.0,
+            escape: Escape {
+                takeoff_drive: 1.0,
+                takeoff_gain: 1.0,
+                takeoff_yaw_deg_s: 360.0,
+                ..FsmParams::default().escape
+            },
             ..FsmParams::default()
         };
         let mut f = Fsm::new(p, Behaviour::Escape);

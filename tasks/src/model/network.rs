@@ -391,9 +391,10 @@ impl Network {
             }
         }
         if p.firmware.strict_retire {
-            self.fields.retire_strict(p.table1.d, p.table1.t_d);
+            self.fields
+                .retire_strict(p.table1.d, u32::from(p.table1.t_d));
         } else {
-            self.fields.retire(p.table1.d, p.table1.t_d);
+            self.fields.retire(p.table1.d, u32::from(p.table1.t_d));
         }
 
         let mut afs: heapless::Vec<AfReport, MAX_AFS> = heapless::Vec::new();

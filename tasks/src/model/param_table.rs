@@ -94,7 +94,7 @@ macro_rules! whole_value {
         }
     )*};
 }
-whole_value!(u8, u32);
+whole_value!(u8, u16, u32);
 
 macro_rules! off_value {
     ($($nz:ty: $t:ty),*) => {$(

@@ -34,7 +34,7 @@ pub struct Control<H = Odometry> {
 impl Control<Odometry> {
     /// Odometry over the FSM's wheel track, starting at heading 0.
     pub fn new(params: FsmParams, behaviour: Behaviour) -> Self {
-        let heading = Odometry::new(params.track_mm, 0.0);
+        let heading = Odometry::new(params.motion.track_mm, 0.0);
         Control::with_heading(Fsm::new(params, behaviour), heading)
     }
 }
@@ -199,7 +199,7 @@ mod tests {
         assert!(c.heading().heading_deg().abs() > 1.0, "spinning");
         // the turn of the step is the heading's change: the spin rate for one frame (6°)
         assert_eq!(c.last_turn_deg(), c.heading().heading_deg());
-        let frame_turn = FsmParams::default().spin_deg_s / 30.0;
+        let frame_turn = FsmParams::default().swarm.spin_deg_s / 30.0;
         assert!(
             (c.last_turn_deg().abs() - frame_turn).abs() < 0.5,
             "{}",

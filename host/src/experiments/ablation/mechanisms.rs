@@ -193,14 +193,14 @@ pub const MECHANISMS: [Mechanism; 16] = [
         what: "short mode while escaping turns away in place, no new γ path",
         fields: "escape_saccade",
         escape: true,
-        copy: |m, s| m.fsm.escape_saccade = s.fsm.escape_saccade,
+        copy: |m, s| m.fsm.escape.escape_saccade = s.fsm.escape.escape_saccade,
     },
     Mechanism {
         name: "takeoff-drive",
         what: "the long takeoff moves along its set-point while it turns",
         fields: "takeoff_drive",
         escape: true,
-        copy: |m, s| m.fsm.takeoff_drive = s.fsm.takeoff_drive,
+        copy: |m, s| m.fsm.escape.takeoff_drive = s.fsm.escape.takeoff_drive,
     },
     Mechanism {
         name: "brisk-turns",
@@ -208,8 +208,8 @@ pub const MECHANISMS: [Mechanism; 16] = [
         fields: "takeoff_gain, takeoff_yaw_deg_s",
         escape: true,
         copy: |m, s| {
-            m.fsm.takeoff_gain = s.fsm.takeoff_gain;
-            m.fsm.takeoff_yaw_deg_s = s.fsm.takeoff_yaw_deg_s;
+            m.fsm.escape.takeoff_gain = s.fsm.escape.takeoff_gain;
+            m.fsm.escape.takeoff_yaw_deg_s = s.fsm.escape.takeoff_yaw_deg_s;
         },
     },
     Mechanism {
@@ -219,7 +219,7 @@ pub const MECHANISMS: [Mechanism; 16] = [
         escape: false,
         copy: |m, s| {
             m.params.swarm.look_change = s.params.swarm.look_change;
-            m.fsm.look_every = s.fsm.look_every;
+            m.fsm.swarm.look_every = s.fsm.swarm.look_every;
         },
     },
 ];

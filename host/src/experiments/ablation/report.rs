@@ -344,7 +344,7 @@ impl Report for AblationReport {
                             continue;
                         };
                         let success = row(v).pooled.success();
-                        let cruise = f64::from(variant.model().fsm.cruise_mm_s);
+                        let cruise = f64::from(variant.model().fsm.motion.cruise_mm_s);
                         let reference = self.reference(variant).map(|r| &row(r).pooled);
                         let d_success = match (success, reference.and_then(|r| r.success())) {
                             (Some(a), Some(b)) => signed(100.0 * (a - b), 1),

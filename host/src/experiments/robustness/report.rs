@@ -56,7 +56,7 @@ impl Row {
         let rates: Vec<f64> = trials.iter().filter_map(|t| t.success_rate).collect();
         let speeds: Vec<f64> = trials.iter().map(|t| t.mean_speed_mm_s).collect();
         let walls: Vec<f64> = trials.iter().map(|t| t.wall_contact_fraction).collect();
-        let cruise = f64::from(c.fsm().cruise_mm_s);
+        let cruise = f64::from(c.fsm().motion.cruise_mm_s);
         let share = s.mean_speed_mm_s / cruise;
         Row {
             perturbation: p,

@@ -4,7 +4,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use alvs_tasks::model::fsm::FsmParams;
+use alvs_tasks::model::fsm::{FsmParams, Motion};
 use alvs_tasks::Frame;
 
 use crate::arena::controller::{Command, Controller, Lgmd2Controller};
@@ -60,7 +60,10 @@ pub fn simulate(
     proximity_mm: Option<f64>,
 ) -> SimRun {
     let fsm = FsmParams {
-        cruise_mm_s: speed_mm_s,
+        motion: Motion {
+            cruise_mm_s: speed_mm_s,
+            ..FsmParams::PAPER.motion
+        },
         ..FsmParams::PAPER
     };
     let (motor, gyro, _) = crate::arena::robot_noise(true);
