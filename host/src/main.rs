@@ -508,7 +508,7 @@ struct CommonArgs {
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
     /// (what the authors' public firmware runs); it sets both the perception and the motion
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
@@ -703,16 +703,13 @@ struct ArenaArgs {
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
     /// (what the authors' public firmware runs); it sets both the perception and the motion
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
     /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
-    /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
@@ -727,16 +724,13 @@ struct ArenaArgs {
 #[derive(clap::Args)]
 struct ModelArgs {
     /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms and a lower T_s, docs/model.md), paper (the paper's model exactly) or firmware
+    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
     /// (what the authors' public firmware runs); it sets both the perception and the motion
     /// (FSM) parameters. --param and --fsm overrides apply on top.
     #[arg(long, value_enum, default_value_t = Model::Alvs)]
     model: Model,
     /// Override a model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
     /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
-    /// Names: w n r_af t_a t_d d w_s alpha t_s c_d s gain lm_shift r_c c_frac q_floor q_balance q_arms
-    /// warmup flicker_pct blocked_change derotate adapt_frames q_grow_pct t_a_quiet band_row
-    /// floor_row short_cols short_row.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
     /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
