@@ -183,7 +183,7 @@ pub const MECHANISMS: [Mechanism; 16] = [
     },
     Mechanism {
         name: "t-s",
-        what: "T_s 5500 instead of Table I's 7000 (an option)",
+        what: "T_s 5500 instead of Table I's 7000",
         fields: "t_s",
         escape: true,
         copy: |m, s| m.params.table1.t_s = s.params.table1.t_s,
