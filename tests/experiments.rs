@@ -70,6 +70,38 @@ fn alvs_escapes_to_the_correct_side_from_all_nine_bearings() {
     );
 }
 
+/// `Params::border_arms`: in the recorded arena's replica the obstacles from ±35° aim at the
+/// tested robot's centre, 19 mm behind its camera, so their centres stay outside the 70° view
+/// and only their inner halves expand in it. Without the blind arms counted, one of them never
+/// opens the gate and collides unseen (tuning seed 1: −35°); with them every bearing alerts and
+/// turns away, and no trial collides.
+#[test]
+fn an_obstacle_half_out_of_view_is_escaped_in_the_replica() {
+    let run = |border_arms: bool| {
+        let mut params = Params::ALVS;
+        params.mechanisms.border_arms = border_arms;
+        let config = EvasionConfig {
+            controllers: alvs_only(),
+            params,
+            ..EvasionConfig::default()
+        };
+        evasion::run(&config, 2, &|_| {}).expect("a valid configuration")
+    };
+    let (with, without) = (run(true), run(false));
+    let (w, wo) = (&with.controllers[0], &without.controllers[0]);
+    assert_eq!(w.alerted, 9, "{}", with.table());
+    assert_eq!(w.correct_side, 9, "{}", with.table());
+    assert_eq!(w.collisions, 0, "{}", with.table());
+    let unseen: Vec<f64> = wo
+        .per_angle
+        .iter()
+        .filter(|o| o.first_alert_s.is_none())
+        .map(|o| o.angle_deg)
+        .collect();
+    assert_eq!(unseen, [-35.0], "{}", without.table());
+    assert!(wo.collisions > w.collisions, "{}", without.table());
+}
+
 /// `Params::t_s` 5500 in the default (Table I: 7000): on seed 3 the obstacles at the edge of
 /// the view are first seen 78–94 mm away (ΣLPLC2 5,769 and 6,121); at 5500 the robot backs off
 /// along the γ path. At 7000 the first alert starts a long takeoff, which with the paper's turn

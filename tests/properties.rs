@@ -241,12 +241,13 @@ fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
-    // retirement, its correlator
+    // retirement, its correlator; and the blind arms at the side borders
     let sixth = (
         prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
         any::<bool>(),
         prop_oneof![3 => Just(true), 1 => Just(false)],
+        any::<bool>(),
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
@@ -255,7 +256,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
             (band_row, floor_row, short_cols, short_row, look_change),
-            (max_fields, t_lplc2, strict_retire, opponent),
+            (max_fields, t_lplc2, strict_retire, opponent, border_arms),
         )| Params {
             table1: TableOne {
                 w,
@@ -284,6 +285,7 @@ fn valid_params() -> impl Strategy<Value = Params> {
                 flicker_pct: NonZeroU8::new(flicker_pct),
                 q_grow_pct: NonZeroU8::new(q_grow_pct),
                 t_a_quiet: NonZeroU32::new(t_a_quiet),
+                border_arms,
             },
             efference: Efference {
                 blocked_change: NonZeroU8::new(blocked_change),

@@ -342,6 +342,14 @@ impl Network {
         // fields silenced on this frame (`Params::t_lplc2` passes on 0 for them)
         let mut muted = [false; MAX_AFS];
         for ((f, l), muted) in self.fields.iter_mut().zip(lplc.iter_mut()).zip(&mut muted) {
+            // `Params::border_arms`: standing, a quadrant the side border cuts off is blind
+            let history = f.age >= u32::from(p.table1.d);
+            if p.mechanisms.border_arms && !self.driving && history && l.response == 0 {
+                let cut = lplc2::cut_sides(usize::from(f.x), p.table1.r_af);
+                if lplc2::excited_at_border(l.quadrants, &gate, cut) >= usize::from(gate.arms) {
+                    l.response = lplc2::drive(l.quadrants);
+                }
+            }
             let last = (f.shift_since_drive() <= lplc2::GROW_SHIFT_PX).then_some(f.drive);
             if !lplc2::partial_opening_grows(
                 l.quadrants,

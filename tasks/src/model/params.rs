@@ -115,6 +115,19 @@ param_groups! {
             /// full of motion keeps Table I's `T_a`. `None` (0) turns it off (the paper). See `docs/model.md`,
             /// "Closed-loop mechanisms".
             t_a_quiet: Option<NonZeroU32> = Range::Int(0, u32::MAX as i64),
+            /// Arms cut off by the camera's side borders: the 70° view ends at the retina's first
+            /// and last columns, so for a field centred within `R_AF / 2` of one, most of the two
+            /// quadrants on that side lie outside the picture, blind rather than silent. An object
+            /// approaching from the edge of the view shows only its inner half, and its missing
+            /// arms keep Eq. (9)'s gate shut until it is at the robot (`docs/model.md`). With
+            /// `true`, while the robot stands (no forward travel, [`crate::Network::driving`]),
+            /// such a blind quadrant counts as excited when its mirror image across the field's
+            /// vertical axis is, in a field that has lived Eq. (10)'s `d` frames; the drive passed
+            /// on is still what the retina saw, and an opening with fewer than four quadrants
+            /// excited by themselves still needs `q_grow_pct`'s growth. Driving, the robot's own
+            /// translation expands everything at the borders, so the mirror would read it as
+            /// looming. `false`: the paper. See `docs/model.md`, "Closed-loop mechanisms".
+            border_arms: bool = Range::Int(0, 1),
         },
         /// Efference copies: what the robot's own turns and travel tell the network (not in the
         /// paper: off in [`Params::PAPER`]; `docs/model.md`, "Closed-loop mechanisms").
@@ -257,6 +270,7 @@ impl Params {
             flicker_pct: None,
             q_grow_pct: None,
             t_a_quiet: None,
+            border_arms: false,
         },
         efference: Efference {
             derotate: false,
@@ -293,6 +307,7 @@ impl Params {
             flicker_pct: NonZeroU8::new(50),
             q_grow_pct: NonZeroU8::new(50),
             t_a_quiet: NonZeroU32::new(30),
+            border_arms: true,
         },
         efference: Efference {
             derotate: true,
@@ -783,7 +798,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 34);
+        assert_eq!(Params::NAMES.len(), 35);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));

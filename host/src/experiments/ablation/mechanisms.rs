@@ -100,7 +100,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 16] = [
+pub const MECHANISMS: [Mechanism; 17] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -152,6 +152,13 @@ pub const MECHANISMS: [Mechanism; 16] = [
         fields: "t_a_quiet",
         escape: true,
         copy: |m, s| m.params.mechanisms.t_a_quiet = s.params.mechanisms.t_a_quiet,
+    },
+    Mechanism {
+        name: "border",
+        what: "a quadrant the view's side border cuts off is blind, not silent",
+        fields: "border_arms",
+        escape: true,
+        copy: |m, s| m.params.mechanisms.border_arms = s.params.mechanisms.border_arms,
     },
     Mechanism {
         name: "band",
@@ -390,7 +397,7 @@ mod tests {
         for v in Variant::all() {
             assert_eq!(Variant::from_name(&v.name()), Ok(v));
         }
-        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(8)));
+        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(9)));
         assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(2)));
         let e = Variant::from_name("alvs-wings").unwrap_err();
         assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");

@@ -18,6 +18,7 @@
 //! excited only above the noise floor `q_floor`: without it sensor noise alone opens the gate
 //! now and then (`docs/model.md`).
 
+use crate::frame::WIDTH;
 use crate::model::hrc::{local_motion, Direction, LmScale, Maps};
 
 mod rows;
@@ -115,6 +116,37 @@ pub fn excited(quadrants: [u32; 4], g: &Gate) -> usize {
         .iter()
         .filter(|&&q| q > g.floor && u64::from(q) >= rel)
         .count()
+}
+
+/// `Params::border_arms`: which sides of a field centred on column `cx` the retina's side
+/// borders cut, `(left, right)`: a side is cut when less than half of the field's half side `r`
+/// lies in the picture there.
+pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
+    let half = usize::from(r).div_ceil(2);
+    (cx < half, cx + half > WIDTH - 1)
+}
+
+/// Eq. (9)'s excited quadrants with the quadrants on a cut side (`cut`, as [`cut_sides`]) also
+/// counted when their mirror image across the vertical axis is excited (`Params::border_arms`),
+/// provided one of the cut side's quadrants is excited by itself. What a cut side still sees
+/// of a looming object is its top and bottom edges spreading apart; an object translating
+/// sideways past the border excites only the quadrants its edges move towards, all on one side
+/// of the axis, so its image across the axis would be invented.
+pub fn excited_at_border(quadrants: [u32; 4], g: &Gate, cut: (bool, bool)) -> usize {
+    let max = quadrants.iter().copied().max().unwrap_or(0);
+    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
+    let on = quadrants.map(|q| q > g.floor && u64::from(q) >= rel);
+    let mut counted = on;
+    // mirror pairs: 0 (right, up) ↔ 1 (left, up), 3 (right, down) ↔ 2 (left, down)
+    if cut.0 && (on[1] || on[2]) {
+        counted[1] |= on[0];
+        counted[2] |= on[3];
+    }
+    if cut.1 && (on[0] || on[3]) {
+        counted[0] |= on[1];
+        counted[3] |= on[2];
+    }
+    counted.iter().filter(|&&c| c).count()
 }
 
 /// How far (pixels, Chebyshev) recentring may move a field between two frames for its drive

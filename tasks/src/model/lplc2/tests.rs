@@ -50,6 +50,52 @@ fn gate_with_three_arms_lets_one_quadrant_be_quiet() {
 }
 
 /// A dark square's outline one pixel larger now than one frame earlier.
+#[test]
+fn the_side_borders_cut_a_field_within_half_its_half_side() {
+    // R_AF 36: 18 columns or more on a side keep that side
+    assert_eq!(cut_sides(17, 36), (true, false));
+    assert_eq!(cut_sides(18, 36), (false, false));
+    assert_eq!(cut_sides(49, 36), (false, false));
+    assert_eq!(cut_sides(80, 36), (false, false));
+    assert_eq!(cut_sides(81, 36), (false, true));
+    // symmetric: columns in view on the cut side, 17 on both
+    assert_eq!(cut_sides(WIDTH - 1 - 17, 36), (false, true));
+    // a field wider than the retina is cut on both sides
+    assert_eq!(cut_sides(49, 99), (true, true));
+}
+
+#[test]
+fn a_blind_quadrant_counts_as_its_mirror_image() {
+    let g = g(250, 15, 3);
+    // a half-visible looming object at the left border: its inner edge moving right excites
+    // the right quadrants, its bottom edge moving down the lower left one
+    let half = [4_000, 100, 1_000, 3_500];
+    assert_eq!(excited(half, &g), 3);
+    let upper = [4_000, 100, 100, 100];
+    assert_eq!(excited_at_border(upper, &g, (false, false)), 1);
+    let looming = [4_000, 100, 1_000, 0];
+    assert_eq!(excited(looming, &g), 2);
+    // cut on the left: 1 takes 0's excitation, as 2 is excited by itself
+    assert_eq!(excited_at_border(looming, &g, (true, false)), 3);
+    // not cut: nothing is lent across the axis
+    assert_eq!(excited_at_border(looming, &g, (false, false)), 2);
+    // an object translating right past the left border excites only the right quadrants:
+    // nothing on the cut side, nothing mirrored
+    let translating = [4_000, 100, 100, 3_500];
+    assert_eq!(excited_at_border(translating, &g, (true, false)), 2);
+    // the same at the right border, moving left
+    let leftwards = [100, 4_000, 3_500, 100];
+    assert_eq!(excited_at_border(leftwards, &g, (false, true)), 2);
+    assert_eq!(
+        excited_at_border([1_000, 4_000, 3_500, 100], &g, (false, true)),
+        4
+    );
+    assert_eq!(excited_at_border(half, &g, (true, false)), 4);
+    // the balance is still the strongest real quadrant's: 500 is under 15 % of 4,000
+    let weak = [4_000, 0, 500, 500];
+    assert_eq!(excited_at_border(weak, &g, (true, false)), 1);
+}
+
 fn square_outline(half: usize, cx: usize, cy: usize) -> [u8; PIXELS] {
     let mut m = [0u8; PIXELS];
     for y in cy - half..=cy + half {
