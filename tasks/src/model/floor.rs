@@ -42,6 +42,10 @@ pub const BODY_RADIUS_MM: i32 = 21;
 pub const PATH_HALF_WIDTH_MM: i32 = BODY_RADIUS_MM;
 /// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2).
 pub const FLOOR_TOL: i32 = 12;
+/// Grey levels by which the floor's grey may follow the floor from one row to the next: the
+/// replica's dark floor brightens by 1–3 levels a row towards the horizon, a pattern on it by a
+/// few more; an obstacle's foot steps by more than [`FLOOR_TOL`] at once.
+pub const FLOOR_TRACK: i32 = 2;
 /// Consecutive rows, bottom up, that must differ from the floor.
 pub const FOOT_ROWS: usize = 2;
 /// Share of a column's rows, from a foot up to the horizon, that must differ from the floor's
@@ -125,34 +129,43 @@ pub fn nearest_foot(frame: &[u8; PIXELS], x: u8) -> Option<u8> {
 /// The row just below the horizon: the farthest foot the floor can show.
 const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 
-/// The foot of column `x` at or below row `top` (≥ [`FOOT_ROWS`] − 1): the lowest run of
-/// [`FOOT_ROWS`] rows that differ from `floor` (the run's lower row) whose column above is
-/// covered up to the horizon ([`FOOT_COVER_PCT`]).
+/// The foot of column `x` at or below row `top` (≥ [`FOOT_ROWS`] − 1): scanning up from the
+/// bottom, the lowest run of [`FOOT_ROWS`] rows that differ from the floor's grey whose column
+/// above is covered up to the horizon ([`FOOT_COVER_PCT`]). The floor's grey starts at `floor`
+/// and follows the floor up the column, by at most [`FLOOR_TRACK`] levels a row: a floor's
+/// grey drifts with distance (a dark floor seen at a grazing angle brightens towards the
+/// horizon) and with its pattern, while an obstacle's foot is a step.
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
-    // One pass down the column from the horizon (by stride, no index per pixel), counting the
-    // rows that differ: the foot is the lowest row at or below `top` that differs with the row
-    // above it, and whose rows up to the horizon are covered; the same foot a scan up from the
-    // bottom finds, for one pass whatever the column holds.
-    let first = (top + 1 - FOOT_ROWS).min(BELOW_HORIZON);
-    let (mut hits, mut run, mut found) = (0, 0, None);
-    let column = frame[first * WIDTH + x..].iter().step_by(WIDTH);
-    for (y, &p) in (first..HEIGHT).zip(column) {
-        let d = (i32::from(p) - floor).abs() > FLOOR_TOL;
-        run = if d { run + 1 } else { 0 };
-        if d && y >= BELOW_HORIZON {
-            hits += 1;
+    let last = top + 1 - FOOT_ROWS;
+    let (mut grey, mut run) = (floor, 0);
+    let mut y = HEIGHT;
+    while y > last.max(BELOW_HORIZON) {
+        y -= 1;
+        let p = i32::from(frame[y * WIDTH + x]);
+        if (p - grey).abs() <= FLOOR_TOL {
+            grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
+            run = 0;
+            continue;
         }
-        if run >= FOOT_ROWS && y >= top && covered(y, hits) {
-            found = Some(y);
+        run += 1;
+        if run >= FOOT_ROWS && covered(frame, grey, x, y + FOOT_ROWS - 1) {
+            return Some(y + FOOT_ROWS - 1);
         }
     }
-    found
+    None
 }
 
-/// Whether `hits`, the rows from `foot` up to the row below the horizon that differ from the
-/// floor, are at least [`FOOT_COVER_PCT`] % of those rows.
-fn covered(foot: usize, hits: usize) -> bool {
+/// Whether at least [`FOOT_COVER_PCT`] % of column `x`'s rows from `foot` up to the row below
+/// the horizon differ from the floor's grey there, `grey`.
+fn covered(frame: &[u8; PIXELS], grey: i32, x: usize, foot: usize) -> bool {
     let rows = (foot + 1).saturating_sub(BELOW_HORIZON);
+    let column = frame[BELOW_HORIZON * WIDTH + x..]
+        .iter()
+        .step_by(WIDTH)
+        .take(rows);
+    let hits = column
+        .filter(|&&p| (i32::from(p) - grey).abs() > FLOOR_TOL)
+        .count();
     100 * hits >= FOOT_COVER_PCT * rows
 }
 
@@ -225,6 +238,23 @@ mod tests {
             }
         }
         assert_eq!(obstacle_ahead(&f, 52), Some(54));
+    }
+
+    #[test]
+    fn a_floor_brightening_towards_the_horizon_is_followed_and_a_wall_on_it_found() {
+        // a dark floor seen at a grazing angle: 2 levels brighter each row up from the bottom,
+        // 72 levels at the horizon, six times the tolerance
+        let mut f = scene(0, 0..0, 0);
+        for y in 36..HEIGHT {
+            let grey = FLOOR + 2 * (HEIGHT - 1 - y) as u8;
+            f[y * WIDTH..(y + 1) * WIDTH].fill(grey);
+        }
+        assert_eq!(obstacle_ahead(&f, 52), None);
+        // a wall whose foot is at row 55 on that floor is still a step
+        for y in 0..=55 {
+            f[y * WIDTH..(y + 1) * WIDTH].fill(40);
+        }
+        assert_eq!(obstacle_ahead(&f, 52), Some(49));
     }
 
     #[test]
