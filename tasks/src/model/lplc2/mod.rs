@@ -110,12 +110,19 @@ pub fn drive(quadrants: [u32; 4]) -> u32 {
 /// How many quadrants are excited: above the floor and at least `g.balance` % of the
 /// strongest.
 pub fn excited(quadrants: [u32; 4], g: &Gate) -> usize {
+    count(excited_mask(quadrants, g))
+}
+
+/// Which quadrants are excited ([`excited`]).
+fn excited_mask(quadrants: [u32; 4], g: &Gate) -> [bool; 4] {
     let max = quadrants.iter().copied().max().unwrap_or(0);
     let rel = (u64::from(max) * u64::from(g.balance)) / 100;
-    quadrants
-        .iter()
-        .filter(|&&q| q > g.floor && u64::from(q) >= rel)
-        .count()
+    quadrants.map(|q| q > g.floor && u64::from(q) >= rel)
+}
+
+/// How many of four are set.
+fn count(mask: [bool; 4]) -> usize {
+    mask.iter().filter(|&&m| m).count()
 }
 
 /// `Params::border_arms`: which sides of a field centred on column `cx` the retina's side
@@ -133,9 +140,7 @@ pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
 /// sideways past the border excites only the quadrants its edges move towards, all on one side
 /// of the axis, so its image across the axis would be invented.
 pub fn excited_at_border(quadrants: [u32; 4], g: &Gate, cut: (bool, bool)) -> usize {
-    let max = quadrants.iter().copied().max().unwrap_or(0);
-    let rel = (u64::from(max) * u64::from(g.balance)) / 100;
-    let on = quadrants.map(|q| q > g.floor && u64::from(q) >= rel);
+    let on = excited_mask(quadrants, g);
     let mut counted = on;
     // mirror pairs: 0 (right, up) ↔ 1 (left, up), 3 (right, down) ↔ 2 (left, down)
     if cut.0 && (on[1] || on[2]) {
@@ -146,7 +151,7 @@ pub fn excited_at_border(quadrants: [u32; 4], g: &Gate, cut: (bool, bool)) -> us
         counted[0] |= on[1];
         counted[3] |= on[2];
     }
-    counted.iter().filter(|&&c| c).count()
+    count(counted)
 }
 
 /// How far (pixels, Chebyshev) recentring may move a field between two frames for its drive
