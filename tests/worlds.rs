@@ -202,7 +202,8 @@ fn the_stimuli_in_the_replica_differ_from_the_lab_and_still_tell_approach_from_r
 /// not earn their place off: `t_s` back to Table I's 7000 moves the stimuli's short mode);
 /// the stimuli's once more for the blind arms at the side borders (`border_arms`, standing
 /// robots only: the other three held), and the other three when the floor line came to
-/// follow the floor's grey up each column (driving robots only: the stimuli's held).
+/// follow the floor's grey up each column (driving robots only: the stimuli's held); the
+/// two threats' once more for the takeoff's jump (`jump_frames`, takeoffs from standing only).
 #[test]
 fn the_lab_is_bit_identical_to_before_the_worlds() {
     let lab = BuiltinWorld::Lab;
@@ -255,7 +256,7 @@ fn the_lab_is_bit_identical_to_before_the_worlds() {
         ],
         [
             0x737d_755a_d06b_14e0,
-            0x7404_3dd4_9c97_307e,
+            0x9064_3122_5250_4d1a,
             0xa014_a12d_8f48_f2c3,
             0x5ba4_c044_3b54_dee9
         ]

@@ -140,7 +140,7 @@ proptest! {
     #[test]
     fn any_params_do_not_panic(
         vals in proptest::collection::vec(any_f32(), 14),
-        counts in proptest::collection::vec(any::<u32>(), 12),
+        counts in proptest::collection::vec(any::<u32>(), 13),
         short_from_long in any::<bool>(),
         wander_stop_frames in proptest::option::of(0u32..100),
         swarm in any::<bool>(),
@@ -179,6 +179,7 @@ proptest! {
                 takeoff_yaw_deg_s: vals[6],
                 live_strength: counts[8] as u8,
                 escape_saccade: counts[9] != 0,
+                jump_frames: NonZeroU32::new(counts[12]),
             },
             swarm: Swarm {
                 spin_frames: counts[3],

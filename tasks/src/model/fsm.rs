@@ -257,6 +257,19 @@ param_groups! {
             /// saccade, `Params::efference.floor_row`, does not depend on it: `--model paper
             /// --param floor_row=52` makes it too.)
             escape_saccade: bool = Range::Int(0, 1),
+            /// The takeoff's jump: a takeoff from standing, started by a field's response (not by
+            /// the floor line), begins its escape with this many frames at full strength
+            /// (`S = 1`, `max_escape_mm_s`) before the latched `S` sets the speed. A fly's
+            /// takeoff, long or short, is launched by a jump at full thrust; a robot already
+            /// moving (wandering, escaping) has no takeoff to make and keeps `S`. 6 frames
+            /// (0.2 s) carry the robot one body length (40 mm) at 200 mm/s. `S` latched at the
+            /// first alert frame is small (ΣLPLC2 1,000–6,000: `S` 0.56–0.82), and a robot 200
+            /// mm/s fast first seen 0.5 s away caught the standing robot before it had run one
+            /// body length (two threats, issue 30; `docs/ablation.md`). The authors' robot
+            /// escapes at full speed after every alert (its `S` > 0.9995 above its alert
+            /// threshold, `docs/notes/2026-11-27-authors-firmware.md`). `None`: `S` from the
+            /// start (the paper).
+            jump_frames: Option<NonZeroU32> = FRAMES,
         },
         /// The swarm behaviour: the spin, and the looks for moving objects.
         swarm: Swarm {
@@ -343,6 +356,7 @@ impl FsmParams {
             takeoff_yaw_deg_s: 360.0,
             live_strength: 0,
             escape_saccade: false,
+            jump_frames: None,
         },
         swarm: Swarm {
             spin_frames: 30,
@@ -367,6 +381,7 @@ impl FsmParams {
             takeoff_drive: 0.5,
             takeoff_gain: 3.0,
             takeoff_yaw_deg_s: f32::INFINITY,
+            jump_frames: NonZeroU32::new(6),
             ..FsmParams::PAPER.escape
         },
         swarm: Swarm {
@@ -447,7 +462,7 @@ impl FsmParams {
     /// be finite and non-negative (`saccade_yaw_deg_s` may be `inf`: no suppression;
     /// `takeoff_yaw_deg_s` too: the wheels' limit); counts are whole frames; `live_strength`
     /// is 0, 1 or 2; a switch (`escape_saccade`, `short_from_long`) takes `true`/`false` (or
-    /// `1`/`0`, `on`/`off`); `look_every` 0, `none` or `off` for never; `wander_stop_frames`
+    /// `1`/`0`, `on`/`off`); `look_every` and `jump_frames` 0, `none` or `off` for never; `wander_stop_frames`
     /// a count or `none`. A refused value leaves the parameters unchanged.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), FsmParamError> {
         let i = FsmParams::position(name).ok_or(FsmParamError::Unknown)?;
@@ -579,6 +594,9 @@ pub struct Fsm {
     saccade: bool,
     /// `S` latched at the trigger, in [0, 1].
     strength: f32,
+    /// The current takeoff started from standing on a field's response: its escape begins with
+    /// the jump (`FsmParams::jump_frames`).
+    jump: bool,
     /// Frames since entering the state (Spin: since the last alert; Look: since the last turn
     /// to a new direction).
     frames: u32,
@@ -611,6 +629,7 @@ impl Fsm {
             latched: false,
             saccade: false,
             strength: 0.5,
+            jump: false,
             frames: 0,
             scans: 0,
             quiet: 0,
@@ -783,6 +802,7 @@ impl Fsm {
     fn enter_turn(&mut self, h: f32, theta: f32) {
         self.state = State::LongTakeoff;
         self.saccade = false;
+        self.jump = false;
         self.short_phase = None;
         self.setpoint = wrap_deg(h + theta);
         self.frames = 0;
@@ -823,6 +843,7 @@ impl Fsm {
         if vm.short_mode && self.state != State::ShortTakeoff && may_short {
             if let Some([t1, t2]) = vm.theta_short {
                 self.state = State::ShortTakeoff;
+                self.jump = false;
                 self.short_phase = Some(ShortPhase::Retreat);
                 self.setpoint = wrap_deg(h + t1);
                 self.setpoint2 = wrap_deg(h + t2);
@@ -839,7 +860,10 @@ impl Fsm {
             // Wander.
             State::Wander | State::Spin | State::Look | State::Stop => {
                 if vm.alert {
+                    // standing: the wheels did nothing on the last frame (efference copy)
+                    let stood = self.last_forward_mm_s == 0.0 && self.last_yaw_deg_s == 0.0;
                     self.enter_long(vm, h);
+                    self.jump = stood && vm.lplc2_sum > 0;
                 } else if matches!(self.state, State::Spin | State::Look) {
                     self.enter_wander(h);
                 } else if self.state == State::Wander {
@@ -985,7 +1009,12 @@ impl Fsm {
                 let v = p.escape.takeoff_drive * s * p.motion.max_escape_mm_s * libm::cosf(err);
                 (v, self.takeoff_turn(self.setpoint, h))
             }
-            State::Escape => (s * p.motion.max_escape_mm_s, self.steer(self.setpoint, h)),
+            State::Escape => {
+                let jumping =
+                    self.jump && p.escape.jump_frames.is_some_and(|n| self.frames < n.get());
+                let s = if jumping { 1.0 } else { s };
+                (s * p.motion.max_escape_mm_s, self.steer(self.setpoint, h))
+            }
             State::ShortTakeoff => match self.short_phase {
                 Some(ShortPhase::Turn) => {
                     (s * p.motion.max_escape_mm_s, self.steer(self.setpoint2, h))
@@ -1110,14 +1139,15 @@ mod tests {
 
     #[test]
     fn the_groups_cost_no_ram() {
-        // the flat struct before the groups took 120 bytes
-        assert_eq!(core::mem::size_of::<FsmParams>(), 116);
+        // the flat struct before the groups took 120 bytes; the groups saved 4, which the jump
+        // (`jump_frames`) took back
+        assert_eq!(core::mem::size_of::<FsmParams>(), 120);
     }
 
     #[test]
     fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
         // the default is the paper's plus the escape saccade, the moving takeoff, brisk
-        // saccades and the swarm's looks, nothing else
+        // saccades, the takeoff's jump and the swarm's looks, nothing else
         assert_eq!(
             FsmParams {
                 escape: Escape {
@@ -1125,6 +1155,7 @@ mod tests {
                     takeoff_drive: 0.0,
                     takeoff_gain: 1.0,
                     takeoff_yaw_deg_s: 360.0,
+                    jump_frames: None,
                     ..FsmParams::default().escape
                 },
                 swarm: Swarm {
@@ -1142,9 +1173,17 @@ mod tests {
                 a.escape.takeoff_drive,
                 a.escape.takeoff_gain,
                 a.escape.takeoff_yaw_deg_s,
+                a.escape.jump_frames,
                 a.swarm.look_every
             ),
-            (true, 0.5, 3.0, f32::INFINITY, NonZeroU32::new(45))
+            (
+                true,
+                0.5,
+                3.0,
+                f32::INFINITY,
+                NonZeroU32::new(6),
+                NonZeroU32::new(45)
+            )
         );
         let p = FsmParams::PAPER;
         // γ paths from every state, S latched at the trigger, a turn in place, an unbounded
@@ -1393,6 +1432,59 @@ mod tests {
         let v = (c.left_mm_s + c.right_mm_s) / 2.0;
         assert!(close(v, 103.9, 0.5), "{v}");
         assert!(c.left_mm_s < c.right_mm_s);
+    }
+
+    #[test]
+    fn a_takeoff_from_standing_on_a_looming_response_starts_its_escape_with_the_jump() {
+        // the escape's forward speed on each of its first 8 frames, after an alert that comes
+        // to a robot standing (held) or wandering
+        let speeds = |standing: bool, lplc2_sum: u32, strength: f32| {
+            let mut f = Fsm::new(FsmParams::default(), Behaviour::Escape);
+            f.step(&quiet(), 0.0);
+            if standing {
+                f.command_not_applied();
+            }
+            let vm = Visuomotor {
+                alert: true,
+                lplc2_sum,
+                strength,
+                theta_long: Some(180.0),
+                ..Visuomotor::default()
+            };
+            f.step(&vm, 0.0);
+            let mut v = [0.0f32; 8];
+            for x in &mut v {
+                let c = f.step(&quiet(), 180.0);
+                assert_eq!(c.state, State::Escape);
+                *x = (c.left_mm_s + c.right_mm_s) / 2.0;
+            }
+            v
+        };
+        // standing, a field's response: 6 frames at full strength, then S · 200
+        let v = speeds(true, 2000, 0.6);
+        assert!(v[..6].iter().all(|&x| close(x, 200.0, 0.5)), "{v:?}");
+        assert!(v[6..].iter().all(|&x| close(x, 120.0, 0.5)), "{v:?}");
+        // wandering: no takeoff to make, S from the start
+        let v = speeds(false, 2000, 0.6);
+        assert!(v.iter().all(|&x| close(x, 120.0, 0.5)), "{v:?}");
+        // the floor line's alert (ΣLPLC2 0, S 0.5) is a distance, not a looming threat
+        let v = speeds(true, 0, 0.5);
+        assert!(v.iter().all(|&x| close(x, 100.0, 0.5)), "{v:?}");
+        // the paper's model has no jump
+        let mut f = Fsm::new(FsmParams::PAPER, Behaviour::Escape);
+        f.step(&quiet(), 0.0);
+        f.command_not_applied();
+        let vm = Visuomotor {
+            alert: true,
+            lplc2_sum: 2000,
+            strength: 0.6,
+            theta_long: Some(180.0),
+            ..Visuomotor::default()
+        };
+        f.step(&vm, 0.0);
+        let c = f.step(&quiet(), 180.0);
+        assert_eq!(c.state, State::Escape);
+        assert!(close((c.left_mm_s + c.right_mm_s) / 2.0, 120.0, 0.5));
     }
 
     #[test]

@@ -100,7 +100,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 17] = [
+pub const MECHANISMS: [Mechanism; 18] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -218,6 +218,13 @@ pub const MECHANISMS: [Mechanism; 17] = [
             m.fsm.escape.takeoff_gain = s.fsm.escape.takeoff_gain;
             m.fsm.escape.takeoff_yaw_deg_s = s.fsm.escape.takeoff_yaw_deg_s;
         },
+    },
+    Mechanism {
+        name: "jump",
+        what: "a takeoff from standing escapes at full strength for its first 0.2 s",
+        fields: "jump_frames",
+        escape: true,
+        copy: |m, s| m.fsm.escape.jump_frames = s.fsm.escape.jump_frames,
     },
     Mechanism {
         name: "swarm-look",
