@@ -117,3 +117,17 @@ pub(crate) fn trace(outs: &[Perception]) {
 }
 
 pub(crate) const POSITIONS: [f32; 3] = [20.0, 49.0, 78.0];
+
+/// How many of `scenes` alert at least once under `params`.
+pub(crate) fn alerting_under(
+    params: Params,
+    scenes: impl IntoIterator<Item = (String, Vec<Frame>)>,
+) -> usize {
+    scenes
+        .into_iter()
+        .filter(|(_, frames)| {
+            let mut net = Network::new(params).unwrap();
+            frames.iter().any(|f| net.step(f).alert())
+        })
+        .count()
+}

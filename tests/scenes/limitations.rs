@@ -18,3 +18,48 @@ fn fine_gratings_do_not_alert() {
     }
     assert_never_alerts(scenes);
 }
+
+/// Frames of full-contrast random noise (issue 31, selectivity): every pixel uniform over
+/// ±255, ±128 or ±64 grey levels around 128, new on every frame, 60 frames, six seeds; and 1–3
+/// such frames bursting into a still textured scene. Measured with the defaults: every noise
+/// scene alerts from the first frame after the warm-up on 56 of 60 frames, all in short mode
+/// (ΣLPLC2 3·10⁵–2.7·10⁶); a single noise frame alerts once, in short mode. The correlators
+/// see motion in every direction in every quadrant, and Eq. (8) sums only the outward
+/// directions: nothing in the model weighs the inward motion that a looming object lacks
+/// and noise has as much of (the fly's LPLC2 is inhibited by it, through LPi neurons).
+#[test]
+#[ignore = "known limitation: random noise frames alert"]
+fn random_noise_frames_do_not_alert() {
+    let mut scenes = Vec::new();
+    for seed in 0..6u64 {
+        for amp in [255, 128, 64] {
+            let mut rng = Rng::new(seed);
+            let frames = (0..60).map(|_| noise_frame(&mut rng, amp)).collect();
+            scenes.push((format!("noise ±{amp}, seed {seed}"), frames));
+        }
+        let still = Canvas::textured(128.0, 20, 6, seed).frame();
+        for burst in 1..4usize {
+            let mut rng = Rng::new(seed + 100);
+            let frames = (0..40)
+                .map(|t| {
+                    if (10..10 + burst).contains(&t) {
+                        noise_frame(&mut rng, 128)
+                    } else {
+                        still
+                    }
+                })
+                .collect();
+            scenes.push((format!("{burst} noise frames, seed {seed}"), frames));
+        }
+    }
+    assert_never_alerts(scenes);
+}
+
+/// A frame of uniform noise, `128 ± amp` grey levels on every pixel.
+fn noise_frame(rng: &mut Rng, amp: i32) -> Frame {
+    let mut f = [0u8; PIXELS];
+    for v in f.iter_mut() {
+        *v = (128 + rng.range(-amp, amp)).clamp(0, 255) as u8;
+    }
+    f
+}

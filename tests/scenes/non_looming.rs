@@ -219,3 +219,68 @@ fn a_steady_stimulus_adapts_out_of_short_mode() {
     assert!(late <= 3, "adapted after a second: {adapted:?}");
     assert!(alvs_alerts >= 40, "still seen: {alvs_alerts}");
 }
+
+/// One whole-frame brightness step (issue 31, selectivity), its size and sign varied (±20, ±40,
+/// ±80, ±120 grey levels) and its timing against the warm-up (`Params::warmup`, 4 frames): on
+/// frames 1 to 11, on a plain and a textured scene, 40 frames each. Issue 31 reported an alert
+/// on the frame after a step (the delayed channels still carrying it); measured again over
+/// these 176 scenes none alerts, nor with the paper's model, nor with the default without
+/// `flicker` or without `warmup`: a guard against the model learning to.
+#[test]
+fn single_brightness_steps_never_alert() {
+    let scenes = || {
+        let backgrounds = [
+            ("plain", Canvas::plain(128.0)),
+            ("textured", Canvas::textured(128.0, 20, 6, 11)),
+        ];
+        let mut scenes = Vec::new();
+        for (what, bg) in &backgrounds {
+            for d in [-120.0f32, -80.0, -40.0, -20.0, 20.0, 40.0, 80.0, 120.0] {
+                let (before, after) = (bg.frame(), bg.offset(d).frame());
+                for at in 1..12usize {
+                    let frames = (0..40)
+                        .map(|t| if t < at { before } else { after })
+                        .collect();
+                    scenes.push((format!("{what} step {d:+} at frame {at}"), frames));
+                }
+            }
+        }
+        scenes
+    };
+    assert_never_alerts(scenes());
+}
+
+/// An object a few centimetres from the camera receding fast (issue 31, selectivity): a disc
+/// of 20 mm radius from 25, 40, 60 and 100 mm away at 0.1, 0.3 and 0.6 m/s until 600 mm, bright
+/// on dark, dark on light and dark on texture, at the left, centre and right. At 25 mm it fills
+/// the view. None alerts (nor with the paper's model).
+#[test]
+fn close_objects_receding_fast_never_alert() {
+    let cases = [
+        ("bright", Canvas::plain(20.0), 220.0),
+        ("dark", Canvas::plain(200.0), 30.0),
+        ("textured", Canvas::textured(150.0, 20, 6, 7), 20.0),
+    ];
+    let mut scenes = Vec::new();
+    for (what, bg, grey) in &cases {
+        for cx in POSITIONS {
+            for v in [0.1f32, 0.3, 0.6] {
+                for d0 in [0.025f32, 0.04, 0.06, 0.1] {
+                    scenes.push((
+                        format!("{what} disc at x = {cx} receding at {v} m/s from {d0} m"),
+                        looming_disc(bg, cx, 36.0, *grey, 0.02, -v, d0, 0.6),
+                    ));
+                }
+            }
+        }
+    }
+    let reversed: Vec<(String, Vec<Frame>)> = scenes
+        .iter()
+        .map(|(n, f)| (n.clone(), f.iter().rev().copied().collect()))
+        .collect();
+    // played backwards the same frames approach: they are stimuli the network does see
+    // (105 of the 108 alert)
+    let approaching = alerting_under(Params::default(), reversed);
+    assert!(approaching >= 100, "{approaching} of 108 approaching scenes alert");
+    assert_never_alerts(scenes);
+}
