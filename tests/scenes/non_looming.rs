@@ -281,6 +281,9 @@ fn close_objects_receding_fast_never_alert() {
     // played backwards the same frames approach: they are stimuli the network does see
     // (105 of the 108 alert)
     let approaching = alerting_under(Params::default(), reversed);
-    assert!(approaching >= 100, "{approaching} of 108 approaching scenes alert");
+    assert!(
+        approaching >= 100,
+        "{approaching} of 108 approaching scenes alert"
+    );
     assert_never_alerts(scenes);
 }
