@@ -25,5 +25,6 @@ pub mod model;
 pub mod robot;
 
 pub use frame::{Frame, FrameError, HEIGHT, PIXELS, WIDTH};
-pub use model::network::{AfReport, Network, Perception, MAX_AFS};
+pub use model::network::{AfReport, Network, Perception};
 pub use model::params::{ParamError, Params};
+pub use model::MAX_AFS;

@@ -23,9 +23,9 @@
 use crate::frame::{HEIGHT, WIDTH};
 use crate::model::dsp;
 use crate::model::hrc::Maps;
-use crate::model::network::MAX_AFS;
 use crate::model::params::{Params, MAX_D};
 use crate::model::retina::Weights;
+use crate::model::MAX_AFS;
 
 /// `Params::t_a_quiet`: the share of the retina, in percent, that must be changing (by
 /// [`crate::model::luminance::CHANGE_LEVEL`] levels or more, one direction) for Eq. (3) to use

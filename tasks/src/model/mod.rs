@@ -16,6 +16,13 @@
 //! | efference copy of turns: the retina's memory re-registered (closed-loop, not in the paper) | [`derotate`] | — |
 //! | moving objects seen while standing, the swarm's look (closed-loop, not in the paper) | [`movers`] | — |
 
+/// Attention fields the network can hold at once. With Table I's `R_AF` = 36 on a 99x72
+/// retina at most 3 x 2 field centres can lie outside each other's squares, so the
+/// capacity is never the limit with the paper's parameters. It sizes the stages' field arrays
+/// ([`attention`], [`lplc2`], [`params`]) and the network that composes them ([`network`]),
+/// so it lives here, above all of them.
+pub const MAX_AFS: usize = 6;
+
 pub mod attention;
 pub mod derotate;
 pub mod dsp;

@@ -25,10 +25,7 @@ use crate::model::progress;
 use crate::model::retina::{delay_q8, Retina, RowError, Weights};
 use crate::model::visuomotor::Visuomotor;
 
-/// Attention fields the network can hold at once. With Table I's `R_AF` = 36 on a 99x72
-/// retina at most 3 x 2 field centres can lie outside each other's squares, so the
-/// capacity is never the limit with the paper's parameters.
-pub const MAX_AFS: usize = 6;
+use crate::model::MAX_AFS;
 
 /// Motion adaptation (`Params::adapt_frames`): the short mode needs `ΣLPLC2` above this many
 /// times its running mean.

@@ -6,9 +6,9 @@
 use core::num::{NonZeroU32, NonZeroU8};
 
 use crate::frame::HEIGHT;
-use crate::model::network::MAX_AFS;
 use crate::model::param_table::{param_groups, write_list, Refusal};
 pub use crate::model::param_table::{Range, Value};
+use crate::model::MAX_AFS;
 
 /// Largest number of connected neurons `n` per correlator (Eq. 6).
 pub const MAX_N: u8 = 4;

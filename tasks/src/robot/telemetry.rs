@@ -31,7 +31,7 @@
 
 use crate::frame::{HEIGHT, WIDTH};
 use crate::model::fsm::State;
-use crate::model::network::MAX_AFS;
+use crate::model::MAX_AFS;
 use crate::robot::line;
 use core::fmt::{self, Write};
 

@@ -248,7 +248,7 @@ pub fn integrate_all_general(
         bounds.0 = (bounds.0 .0.min(r.cols.0), bounds.0 .1.max(r.cols.1));
         bounds.1 = (bounds.1 .0.min(r.rows.0), bounds.1 .1.max(r.rows.1));
     }
-    let mut q = [[0u64; 4]; crate::model::network::MAX_AFS];
+    let mut q = [[0u64; 4]; crate::model::MAX_AFS];
     for y in bounds.1 .0..=bounds.1 .1 {
         for x in bounds.0 .0..=bounds.0 .1 {
             // local motion per direction (r, l, d, u), computed on first need

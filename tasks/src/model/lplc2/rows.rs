@@ -65,9 +65,9 @@ impl Narrow {
 const PAD: usize = crate::model::params::MAX_N as usize;
 /// A packed row with its margins (and one spare slot for the running windows' last update).
 const PADDED: usize = WIDTH + 2 * PAD + 1;
-/// Column breakpoints of up to [`MAX_AFS`](crate::model::network::MAX_AFS) fields: each field's
+/// Column breakpoints of up to [`MAX_AFS`](crate::model::MAX_AFS) fields: each field's
 /// `x0`, `x̄` and `x̄ + 1` (clamped to the square) and `x1 + 1`.
-const MAX_BP: usize = 4 * crate::model::network::MAX_AFS;
+const MAX_BP: usize = 4 * crate::model::MAX_AFS;
 
 /// Byte lanes 0 and 2 of a [`Cells`](crate::model::hrc::Cells) word: `[on | on_d << 16]` (`>> 8` first for `off`).
 const LANES: u32 = 0x00FF_00FF;
@@ -336,16 +336,13 @@ fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u
 /// `x̄` to Q2 (l + u) or Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's
 /// own row and column belong to no quadrant. A row's sums stay below `u32::MAX` (`Narrow`).
 pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
-    let count = regions
-        .len()
-        .min(out.len())
-        .min(crate::model::network::MAX_AFS);
+    let count = regions.len().min(out.len()).min(crate::model::MAX_AFS);
     let (regions, out) = (&regions[..count], &mut out[..count]);
     let n = nw.n.clamp(1, PAD);
     // per field: rows (y0, y1 + 1), centroid row, and the breakpoints x0, left end, right
     // start, x1 + 1 (as columns, then as indices into `bp`)
     // (an empty square keeps rows 0..0: never on a row)
-    let mut fields = [(0usize, 0usize, 0usize, [0usize; 4]); crate::model::network::MAX_AFS];
+    let mut fields = [(0usize, 0usize, 0usize, [0usize; 4]); crate::model::MAX_AFS];
     let mut bp = [0usize; MAX_BP];
     let mut nbp = 0;
     for (f, r) in fields.iter_mut().zip(regions) {
@@ -381,7 +378,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
     }
     let fields = &fields[..count];
 
-    let mut q = [[0u64; 4]; crate::model::network::MAX_AFS];
+    let mut q = [[0u64; 4]; crate::model::MAX_AFS];
     let mut row: Row = [[0; 4]; PADDED];
     // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
     // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above

@@ -263,7 +263,7 @@ proptest! {
         floor in 0u32..2000,
         balance in 0u8..=100,
         arms in 0u8..=4,
-        regions in prop::collection::vec(region(), 0..=crate::model::network::MAX_AFS),
+        regions in prop::collection::vec(region(), 0..=crate::model::MAX_AFS),
     ) {
         let maps = maps_of(seed, kind);
         let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
@@ -272,7 +272,7 @@ proptest! {
         let p = Params { table1: TableOne { n, w, ..Params::PAPER.table1 }, choices: Choices { s, gain, lm_shift, ..Params::PAPER.choices }, ..Params::PAPER };
         prop_assert_eq!(p.validate(), Ok(()));
         let sc = LmScale::new(&p);
-        let mut all = [Lplc2::default(); crate::model::network::MAX_AFS];
+        let mut all = [Lplc2::default(); crate::model::MAX_AFS];
         let g = Gate { floor, balance, arms };
         integrate_all(&m, &sc, &regions, &g, &mut all);
         for (r, got) in regions.iter().zip(all.iter()) {
