@@ -1040,3 +1040,6 @@ fn add_hooks(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
     .map_err(emu)?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;
