@@ -3,33 +3,20 @@
 
 use alvs_cycles::system::{Board, Config};
 
+mod thumb;
+use thumb::{mov32, str, B_SELF};
+
 const RESET: u32 = 0x0800_0100;
 const HANDLER_A: u32 = 0x0800_0200;
 const HANDLER_B: u32 = 0x0800_0300;
 const HARD_FAULT: u32 = 0x0800_0400;
 const RAM: u32 = 0x2000_0000;
 
-/// Thumb-2 encodings used below.
-fn movw(rd: u16, imm: u16) -> [u16; 2] {
-    let (i, imm4, imm3, imm8) = ((imm >> 11) & 1, imm >> 12, (imm >> 8) & 7, imm & 0xFF);
-    [0xF240 | i << 10 | imm4, imm3 << 12 | rd << 8 | imm8]
-}
-fn movt(rd: u16, imm: u16) -> [u16; 2] {
-    let [a, b] = movw(rd, imm);
-    [a | 0x0080, b]
-}
-fn mov32(rd: u16, v: u32) -> Vec<u16> {
-    [movw(rd, v as u16), movt(rd, (v >> 16) as u16)].concat()
-}
-/// str rt, [rn, #4 imm5]
-fn str(rt: u16, rn: u16, offset: u16) -> u16 {
-    0x6000 | (offset / 4) << 6 | rn << 3 | rt
-}
+/// Thumb-2 encodings used below (beside those of `thumb`).
 const VMOV_S0_R0: [u16; 2] = [0xEE00, 0x0A10];
 const VMOV_R3_S0: [u16; 2] = [0xEE10, 0x3A10];
 const BX_LR: u16 = 0x4770;
 const WFI: u16 = 0xBF30;
-const B_SELF: u16 = 0xE7FE;
 const UDF: u16 = 0xDE00;
 /// msr basepri, r2
 const MSR_BASEPRI_R2: [u16; 2] = [0xF382, 0x8811];

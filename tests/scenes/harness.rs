@@ -4,7 +4,12 @@ use super::*;
 
 /// Runs the frames through a fresh network with `Params::default()`.
 pub(crate) fn run(frames: &[Frame]) -> Vec<Perception> {
-    let mut net = Network::new(Params::default()).unwrap();
+    run_with(Params::default(), frames)
+}
+
+/// Runs the frames through a fresh network with `params`.
+pub(crate) fn run_with(params: Params, frames: &[Frame]) -> Vec<Perception> {
+    let mut net = Network::new(params).unwrap();
     frames.iter().map(|f| net.step(f)).collect()
 }
 
@@ -125,9 +130,6 @@ pub(crate) fn alerting_under(
 ) -> usize {
     scenes
         .into_iter()
-        .filter(|(_, frames)| {
-            let mut net = Network::new(params).unwrap();
-            frames.iter().any(|f| net.step(f).alert())
-        })
+        .filter(|(_, frames)| alerts(&run_with(params, frames)) > 0)
         .count()
 }

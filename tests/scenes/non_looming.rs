@@ -228,26 +228,23 @@ fn a_steady_stimulus_adapts_out_of_short_mode() {
 /// `flicker` or without `warmup`: a guard against the model learning to.
 #[test]
 fn single_brightness_steps_never_alert() {
-    let scenes = || {
-        let backgrounds = [
-            ("plain", Canvas::plain(128.0)),
-            ("textured", Canvas::textured(128.0, 20, 6, 11)),
-        ];
-        let mut scenes = Vec::new();
-        for (what, bg) in &backgrounds {
-            for d in [-120.0f32, -80.0, -40.0, -20.0, 20.0, 40.0, 80.0, 120.0] {
-                let (before, after) = (bg.frame(), bg.offset(d).frame());
-                for at in 1..12usize {
-                    let frames = (0..40)
-                        .map(|t| if t < at { before } else { after })
-                        .collect();
-                    scenes.push((format!("{what} step {d:+} at frame {at}"), frames));
-                }
+    let backgrounds = [
+        ("plain", Canvas::plain(128.0)),
+        ("textured", Canvas::textured(128.0, 20, 6, 11)),
+    ];
+    let mut scenes = Vec::new();
+    for (what, bg) in &backgrounds {
+        for d in [-120.0f32, -80.0, -40.0, -20.0, 20.0, 40.0, 80.0, 120.0] {
+            let (before, after) = (bg.frame(), bg.offset(d).frame());
+            for at in 1..12usize {
+                let frames = (0..40)
+                    .map(|t| if t < at { before } else { after })
+                    .collect();
+                scenes.push((format!("{what} step {d:+} at frame {at}"), frames));
             }
         }
-        scenes
-    };
-    assert_never_alerts(scenes());
+    }
+    assert_never_alerts(scenes);
 }
 
 /// An object a few centimetres from the camera receding fast (issue 31, selectivity): a disc

@@ -5,25 +5,15 @@
 
 use super::*;
 
+#[path = "../../../tests/thumb/mod.rs"]
+mod thumb;
+use thumb::{mov32, B_SELF};
+
 const RESET: u32 = 0x0800_0100;
 /// A word of SRAM the programs below keep a count in.
 const COUNTER: u32 = 0x2000_0100;
 /// The top of CCM, the initial SP of every image here.
 const TOP: u32 = 0x1001_0000;
-
-const B_SELF: u16 = 0xE7FE;
-
-fn movw(rd: u16, imm: u16) -> [u16; 2] {
-    let (i, imm4, imm3, imm8) = ((imm >> 11) & 1, imm >> 12, (imm >> 8) & 7, imm & 0xFF);
-    [0xF240 | i << 10 | imm4, imm3 << 12 | rd << 8 | imm8]
-}
-
-fn mov32(rd: u16, v: u32) -> Vec<u16> {
-    let [a, b] = movw(rd, v as u16);
-    let [c, d] = movw(rd, (v >> 16) as u16);
-    // movt is movw with bit 7 of the first half-word set
-    vec![a, b, c | 0x0080, d]
-}
 
 /// A flash image: SP = top of CCM, the reset vector, and `code` at [`RESET`].
 fn image(code: &[u16]) -> Vec<u8> {
