@@ -138,6 +138,8 @@ const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
     let last = top + 1 - FOOT_ROWS;
     let (mut grey, mut run) = (floor, 0);
+    // the cover (differing rows, rows) of the run's last candidate foot
+    let mut cover: Option<(usize, usize)> = None;
     let mut y = HEIGHT;
     while y > last.max(BELOW_HORIZON) {
         y -= 1;
@@ -145,19 +147,31 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
         if (p - grey).abs() <= FLOOR_TOL {
             grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
             run = 0;
+            cover = None;
             continue;
         }
         run += 1;
-        if run >= FOOT_ROWS && covered(frame, grey, x, y + FOOT_ROWS - 1) {
-            return Some(y + FOOT_ROWS - 1);
+        if run >= FOOT_ROWS {
+            let foot = y + FOOT_ROWS - 1;
+            // within a run the floor's grey holds, and the candidate one row up drops the old
+            // foot, a row of the run: one differing row fewer; no second scan of the column
+            let (hits, rows) = match cover {
+                Some((hits, rows)) => (hits - 1, rows - 1),
+                None => column_cover(frame, grey, x, foot),
+            };
+            cover = Some((hits, rows));
+            if 100 * hits >= FOOT_COVER_PCT * rows {
+                return Some(foot);
+            }
         }
     }
     None
 }
 
-/// Whether at least [`FOOT_COVER_PCT`] % of column `x`'s rows from `foot` up to the row below
-/// the horizon differ from the floor's grey there, `grey`.
-fn covered(frame: &[u8; PIXELS], grey: i32, x: usize, foot: usize) -> bool {
+/// Of column `x`'s rows from `foot` up to the row below the horizon, how many differ from the
+/// floor's grey there, `grey`, and how many there are: covered when the first is at least
+/// [`FOOT_COVER_PCT`] % of the second.
+fn column_cover(frame: &[u8; PIXELS], grey: i32, x: usize, foot: usize) -> (usize, usize) {
     let rows = (foot + 1).saturating_sub(BELOW_HORIZON);
     let column = frame[BELOW_HORIZON * WIDTH + x..]
         .iter()
@@ -166,7 +180,7 @@ fn covered(frame: &[u8; PIXELS], grey: i32, x: usize, foot: usize) -> bool {
     let hits = column
         .filter(|&&p| (i32::from(p) - grey).abs() > FLOOR_TOL)
         .count();
-    100 * hits >= FOOT_COVER_PCT * rows
+    (hits, rows)
 }
 
 /// Median grey of [`FLOOR_SAMPLE`] bottom-row pixels spread over its middle 40 columns.
@@ -327,5 +341,45 @@ mod tests {
             f[60 * WIDTH + x] = 20; // a line on the floor
         }
         assert_eq!(obstacle_ahead(&f, 52), None);
+    }
+
+    /// `foot_below` as the plain definition: every candidate's column scanned again.
+    fn foot_below_plain(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
+        let last = top + 1 - FOOT_ROWS;
+        let (mut grey, mut run) = (floor, 0);
+        let mut y = HEIGHT;
+        while y > last.max(BELOW_HORIZON) {
+            y -= 1;
+            let p = i32::from(frame[y * WIDTH + x]);
+            if (p - grey).abs() <= FLOOR_TOL {
+                grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
+                run = 0;
+                continue;
+            }
+            run += 1;
+            let foot = y + FOOT_ROWS - 1;
+            let (hits, rows) = column_cover(frame, grey, x, foot);
+            if run >= FOOT_ROWS && 100 * hits >= FOOT_COVER_PCT * rows {
+                return Some(foot);
+            }
+        }
+        None
+    }
+
+    proptest::proptest! {
+        /// The one-pass cover is the plain definition's, on columns of floor, blobs and walls
+        /// of a few greys (so that runs, failed candidates and covered feet all occur).
+        #[test]
+        fn the_one_pass_cover_is_the_plain_definition(
+            column in proptest::collection::vec(proptest::sample::select(&[40u8, 52, 60, 75, 120, 200][..]), HEIGHT),
+            floor in proptest::sample::select(&[40i32, 52, 60][..]),
+            top in FOOT_ROWS - 1..HEIGHT,
+        ) {
+            let mut f = [0u8; PIXELS];
+            for (y, &g) in column.iter().enumerate() {
+                f[y * WIDTH + 7] = g;
+            }
+            proptest::prop_assert_eq!(foot_below(&f, floor, 7, top), foot_below_plain(&f, floor, 7, top));
+        }
     }
 }
