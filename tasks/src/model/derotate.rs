@@ -21,17 +21,15 @@
 //! ```
 //!
 //! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
-//! The remap is done in place in two separable passes (rows, then columns), each reading the
-//! old pixels from a copy of the row or column (the cells' rows: in a visiting order that never
-//! reads a pixel already written): `P(t−1)` interpolated between its two nearest source pixels,
-//! the cells (four packed means each) from the nearest one. What came into view has no past:
+//! The remap is done in place in two separable passes (rows, two at a time, then columns),
+//! each reading the old pixels from a copy of the row or column: `P(t−1)` interpolated between
+//! its two nearest source pixels, the cells (four packed means each) from the nearest one. What came into view has no past:
 //! the means and delay line there are 0 and `P(t−1)` takes the new frame's pixels
 //! ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so new content is not
 //! mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a turn also moves
 //! it sideways by a few mm; that parallax is not predicted.
 
 use crate::frame::{CENTRE_X as CX, HEIGHT, PIXELS, WIDTH};
-use core::hint::select_unpredictable;
 
 /// Horizontal field of view between the centres of the outermost columns, degrees
 /// (`docs/hardware.md`: the OV7670 lens's ≈ 70° on the 99-column window).
@@ -102,6 +100,10 @@ pub trait Pixel: Copy {
     const MIN_SHIFT_Q8: u32;
     /// The value `frac` (Q8) of the way from `a` to `b`.
     fn between(a: Self, b: Self, frac: u32) -> Self;
+    /// The value at old row `q` (Q8 · 32) of a column `rows` (its row `y` at `rows[y]`):
+    /// between rows `⌊q⌋` and `⌊q⌋ + 1`, or the nearest. Indexed modulo [`SPAN`], so no read
+    /// needs a bounds test.
+    fn sample(rows: &[Self; SPAN + 1], q: u32) -> Self;
 }
 
 impl Pixel for u8 {
@@ -113,6 +115,11 @@ impl Pixel for u8 {
     fn between(a: u8, b: u8, frac: u32) -> u8 {
         let (a, b) = (a as i32, b as i32);
         (a + (((b - a) * frac as i32 + 128) >> 8)) as u8
+    }
+    #[inline(always)]
+    fn sample(rows: &[u8; SPAN + 1], q: u32) -> u8 {
+        let i = ((q >> 13) as usize) % SPAN;
+        Self::between(rows[i], rows[i + 1], (q >> 5) & 0xFF)
     }
 }
 
@@ -129,11 +136,22 @@ impl Pixel for u32 {
             b
         }
     }
+    #[inline(always)]
+    fn sample(rows: &[u32; SPAN + 1], q: u32) -> u32 {
+        rows[((q + (128 << 5)) >> 13) as usize % SPAN]
+    }
 }
 
 /// No source column.
 pub const OUTSIDE: u16 = u16::MAX;
 const _: () = assert!(((WIDTH - 1) << 8) < OUTSIDE as usize);
+/// Entries of the copies the passes read from, a power of two: an index taken modulo `SPAN`
+/// (one mask) never needs a bounds test, and every index the passes compute is below it (a
+/// row's columns and their neighbour, [`OUTSIDE`]'s `SPAN − 1`; a column's rows, one down,
+/// and what lies outside).
+const SPAN: usize = 128;
+const _: () = assert!(SPAN.is_power_of_two() && WIDTH + 1 < SPAN - 1 && HEIGHT + 2 < SPAN);
+const _: () = assert!((OUTSIDE >> 8) as usize % SPAN == SPAN - 1);
 
 /// A turn's remap, per new column: where its pixels come from.
 #[derive(Debug, Clone, PartialEq)]
@@ -209,55 +227,71 @@ impl Map {
             return;
         };
         if T::NEAREST {
-            for row in img.iter_mut() {
-                self.row_nearest(row, fill);
+            for pair in img.chunks_exact_mut(2) {
+                if let [a, b] = pair {
+                    self.rows_nearest(a, b, fill);
+                }
             }
         } else {
-            let mut old = [img[0][0]; 257];
-            for row in img.iter_mut() {
-                self.row_between(row, &mut old, fill);
+            let mut old = [[img[0][0]; SPAN + 1]; 2];
+            for pair in img.chunks_exact_mut(2) {
+                if let [a, b] = pair {
+                    self.rows_between(a, b, &mut old, fill);
+                }
             }
         }
+        let mut old: Column<T> = [img[0][0]; SPAN + 2];
         for (x, &s) in self.scale.iter().enumerate() {
-            column(img, x, i32::from(s), fill);
+            column(img, &mut old, x, i32::from(s), fill);
         }
     }
 
-    /// The row pass on one row, its pixels between two source pixels, from a copy in `old`
-    /// indexed by the source's whole column: a `u8`, so no read needs a bounds check. Column
-    /// 255 ([`OUTSIDE`]) and its neighbour hold what lies outside; the last column's neighbour
-    /// (its fraction is 0) the last column.
-    fn row_between<T: Pixel>(&self, row: &mut [T; WIDTH], old: &mut [T; 257], fill: Option<T>) {
-        old[..WIDTH].copy_from_slice(row);
-        old[WIDTH] = row[WIDTH - 1];
-        // without a fill, the nearest column of the old frame: its edge on the side turned
-        // towards
-        let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
-        old[255] = outside;
-        old[256] = outside;
-        for (p, &c) in row.iter_mut().zip(self.src.iter()) {
-            let i = usize::from(c >> 8);
-            *p = T::between(old[i], old[i + 1], u32::from(c & 0xFF));
+    /// The row pass on two rows, their pixels between two source pixels, from copies in `old`
+    /// indexed by the source's whole column modulo [`SPAN`], so no read needs a bounds check.
+    /// Entry `SPAN − 1` ([`OUTSIDE`]) and its neighbour hold what lies outside; the last
+    /// column's neighbour (its fraction is 0) the last column. Two rows a pass: each source
+    /// column is read once for both.
+    fn rows_between<T: Pixel>(
+        &self,
+        a: &mut [T; WIDTH],
+        b: &mut [T; WIDTH],
+        old: &mut [[T; SPAN + 1]; 2],
+        fill: Option<T>,
+    ) {
+        for (old, row) in old.iter_mut().zip([&*a, &*b]) {
+            old[..WIDTH].copy_from_slice(row);
+            old[WIDTH] = row[WIDTH - 1];
+            // without a fill, the nearest column of the old frame: its edge on the side turned
+            // towards
+            let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
+            old[SPAN - 1] = outside;
+            old[SPAN] = outside;
+        }
+        let [oa, ob] = old;
+        for (x, &c) in self.src.iter().enumerate() {
+            let (i, frac) = (usize::from(c >> 8) % SPAN, u32::from(c & 0xFF));
+            a[x] = T::between(oa[i], oa[i + 1], frac);
+            b[x] = T::between(ob[i], ob[i + 1], frac);
         }
     }
 
-    /// The row pass on one row, each pixel the nearest source pixel, in place. Turning right
+    /// The row pass on two rows, each pixel the nearest source pixel, in place. Turning right
     /// every source column lies right of its destination (`x_old > x`), so visiting left to
     /// right never reads a pixel already written; turning left, right to left.
-    fn row_nearest<T: Pixel>(&self, row: &mut [T; WIDTH], fill: Option<T>) {
+    fn rows_nearest<T: Pixel>(&self, a: &mut [T; WIDTH], b: &mut [T; WIDTH], fill: Option<T>) {
         // without a fill, the nearest column of the old frame: its edge on the side turned
         // towards (the last one written)
-        let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
-        let one = |row: &mut [T; WIDTH], x: usize| {
-            row[x] = row
-                .get(usize::from(self.near[x]))
-                .copied()
-                .unwrap_or(outside);
+        let edge = if self.right { WIDTH - 1 } else { 0 };
+        let (out_a, out_b) = (fill.unwrap_or(a[edge]), fill.unwrap_or(b[edge]));
+        let mut one = |x: usize| {
+            let i = usize::from(self.near[x]);
+            a[x] = a.get(i).copied().unwrap_or(out_a);
+            b[x] = b.get(i).copied().unwrap_or(out_b);
         };
         if self.right {
-            (0..WIDTH).for_each(|x| one(row, x));
+            (0..WIDTH).for_each(&mut one);
         } else {
-            (0..WIDTH).rev().for_each(|x| one(row, x));
+            (0..WIDTH).rev().for_each(one);
         }
     }
 }
@@ -270,15 +304,22 @@ const HALF_ROWS: usize = HEIGHT / 2;
 const LAST: i32 = (HEIGHT as i32 - 1) << 8;
 /// The lower half's first row, Q8.
 const HALF: i32 = (HALF_ROWS as i32) << 8;
-/// A column of the old image one row down: what lies outside above and below it, and the
-/// neighbour of a source below (its fraction is 0).
-type Column<T> = [T; HEIGHT + 3];
+/// A column of the old image one row down: `[0]` and `[HEIGHT + 1]` what lies outside above
+/// and below it, `[y + 1]` row `y`; long enough that `[1..]` takes any index modulo [`SPAN`]
+/// and the next ([`Pixel::sample`]).
+type Column<T> = [T; SPAN + 2];
 
 /// The column pass on column `x` with vertical factor `s` (Q12): new row `y` takes old row
-/// `c_y + (y − c_y)·s` (Q8, between its two neighbours), read from a copy of the column, so
-/// the order the rows are written in does not matter. Each half takes only its own rows. Rows whose
-/// source lies less than [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
-fn column<T: Pixel>(img: &mut Rows<T>, x: usize, s_q12: i32, fill: Option<T>) {
+/// `c_y + (y − c_y)·s` (Q8, between its two neighbours), read from a copy of the column in
+/// `old` (only its entries `0..=HEIGHT + 1` are written), so the order the rows are written in
+/// does not matter. Each half takes only its own rows: a source within half a pixel of the
+/// image takes the edge row, one beyond it what lies outside (`fill`, or without one the edge
+/// row), one across the centre line the half's own row next to it. Rows whose source lies
+/// less than [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
+///
+/// The source rises with `y`, so each half's rows fall into runs in that order (outside, edge,
+/// between two rows, edge); their bounds are computed once, and no pixel is clamped.
+fn column<T: Pixel>(img: &mut Rows<T>, old: &mut Column<T>, x: usize, s_q12: i32, fill: Option<T>) {
     let ds = (s_q12 - 4096).unsigned_abs();
     if ds == 0 || x >= WIDTH {
         return;
@@ -293,43 +334,63 @@ fn column<T: Pixel>(img: &mut Rows<T>, x: usize, s_q12: i32, fill: Option<T>) {
     else {
         return;
     };
-    let mut old: Column<T> = [img[HEIGHT - 1][x]; HEIGHT + 3];
     for (o, row) in old[1..].iter_mut().zip(img.iter()) {
         *o = row[x];
     }
-    // beyond the image (only with s > 1) and without a fill, the half's edge row
     old[0] = fill.unwrap_or(img[0][x]);
     old[HEIGHT + 1] = fill.unwrap_or(img[HEIGHT - 1][x]);
-    old[HEIGHT + 2] = old[HEIGHT + 1];
     // row y's source, Q8 · 32: CY2·4096 + (2y − CY2)·s, rising by 2s a row
     let step = 2 * s_q12;
-    let mut q = (CY2 << 12) - CY2 * s_q12;
-    for row in &mut img[..n] {
-        row[x] = source::<T, true>(&old, q >> 5);
-        q += step;
-    }
-    let mut q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s_q12;
-    for row in &mut img[HEIGHT - n..] {
-        row[x] = source::<T, false>(&old, q >> 5);
-        q += step;
-    }
+    let q = (CY2 << 12) - CY2 * s_q12;
+    let [a, b, c] = [-128, 0, HALF - 255].map(|end| rows_below(q, step, end, n));
+    let upper = &mut img[..n];
+    upper[..a].iter_mut().for_each(|r| r[x] = old[0]);
+    upper[a..b].iter_mut().for_each(|r| r[x] = old[1]);
+    between_rows(&mut upper[b..c], old, x, q + b as i32 * step, step);
+    upper[c..].iter_mut().for_each(|r| r[x] = old[HALF_ROWS]);
+    let q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s_q12;
+    let [a, b, c] = [HALF, LAST + 1, LAST + 129].map(|end| rows_below(q, step, end, n));
+    let lower = &mut img[HEIGHT - n..];
+    lower[..a]
+        .iter_mut()
+        .for_each(|r| r[x] = old[HALF_ROWS + 1]);
+    between_rows(&mut lower[a..b], old, x, q + a as i32 * step, step);
+    lower[b..c].iter_mut().for_each(|r| r[x] = old[HEIGHT]);
+    lower[c..].iter_mut().for_each(|r| r[x] = old[HEIGHT + 1]);
 }
 
-/// The pixel at old row `q` (Q8) of a half (`UPPER`: rows 0–35) of a [`Column`]: within half
-/// a pixel of the image its edge row, beyond it what lies outside; within the centre line's
-/// half pixel the half's own row. Branch-free (a select, not a jump, on the common path). The
-/// nearest row of a cell is the one [`Pixel::between`] picks.
+/// How many of `n` rows, from source `q` (Q8 · 32) rising by `step` > 0 a row, have their
+/// source `q >> 5` below `end` (Q8).
 #[inline(always)]
-fn source<T: Pixel, const UPPER: bool>(old: &Column<T>, q: i32) -> T {
-    // only the upper half's sources can lie above the image, the lower half's below it
-    let q = if UPPER {
-        select_unpredictable(q < -128, -256, q.clamp(0, HALF - 256))
-    } else {
-        select_unpredictable(q > LAST + 128, LAST + 256, q.clamp(HALF, LAST))
+fn rows_below(q: i32, step: i32, end: i32, n: usize) -> usize {
+    let need = (end << 5) - q;
+    if need <= 0 || step <= 0 {
+        return 0;
+    }
+    usize::try_from((need + step - 1) / step).map_or(n, |k| k.min(n))
+}
+
+/// Column `x` of `rows`, each between the two rows of the copy `old` around its source `q`
+/// (Q8 · 32, rising by `step` a row; inside the half, so both rows lie in the copy). Two rows
+/// a turn of the loop: half the jumps back.
+#[inline(always)]
+fn between_rows<T: Pixel>(rows: &mut [[T; WIDTH]], old: &Column<T>, x: usize, q: i32, step: i32) {
+    let (Some(old), Ok(mut q), Ok(step)) =
+        (old.last_chunk(), u32::try_from(q), u32::try_from(step))
+    else {
+        return;
     };
-    // one row down in the copy
-    let i = ((q + 256) >> 8) as usize;
-    T::between(old[i], old[i + 1], (q & 0xFF) as u32)
+    let mut pairs = rows.chunks_exact_mut(2);
+    for pair in &mut pairs {
+        if let [a, b] = pair {
+            a[x] = T::sample(old, q);
+            b[x] = T::sample(old, q + step);
+        }
+        q += 2 * step;
+    }
+    for r in pairs.into_remainder() {
+        r[x] = T::sample(old, q);
+    }
 }
 
 #[cfg(test)]
@@ -417,7 +478,7 @@ mod tests {
             for (y, row) in img.iter_mut().enumerate() {
                 row[7] = make(y);
             }
-            column(&mut img, 7, s, Some(make(255)));
+            column(&mut img, &mut [make(0); SPAN + 2], 7, s, Some(make(255)));
             for (y, row) in img.iter().enumerate() {
                 let d = 2 * y as i32 - CY2;
                 let q = (d * s + (CY2 << 12)) >> 5;
