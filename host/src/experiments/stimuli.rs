@@ -21,7 +21,9 @@
 //! The observer's view of each obstacle is known (the pinhole model), so the report says how
 //! many of the obstacles an attention field sits on (`localised`, at the frame with most
 //! fields: a field's column within the obstacle's silhouette, widened by [`LOCALISED_PX`]
-//! columns on each side).
+//! columns on each side), and how many at once each have a field of their own (`own`: a
+//! field sits on one obstacle only in a one-to-one matching, so one wide field over three
+//! obstacles counts once; Fig. 3 (e)–(f): "a corresponding number of attention fields").
 
 use std::path::{Path, PathBuf};
 
@@ -285,6 +287,13 @@ pub struct SceneResult {
     pub peak_frame: u32,
     /// Obstacles with an attention field on them, at the (last) frame with most fields.
     pub localised: usize,
+    /// Most obstacles at once that each have an attention field of their own on them (a
+    /// one-to-one matching of fields to obstacles, "on" as for `localised`).
+    #[serde(default)]
+    pub own: usize,
+    /// Frames in which every obstacle in view has a field of its own (some in view).
+    #[serde(default)]
+    pub own_frames: u32,
     /// Every attention field's track.
     pub tracks: Vec<Track>,
     /// Each obstacle's image column per frame (`null` when out of view).
@@ -394,6 +403,7 @@ fn run_scene(
     let mut object_columns = vec![Vec::new(); scene.movers.len()];
     let (mut alerts, mut shorts, mut first) = (0, 0, None);
     let (mut max_afs, mut peak, mut peak_frame, mut localised) = (0, 0, 0, 0);
+    let (mut own, mut own_frames) = (0, 0);
     for f in 0..scene.frames {
         // columns of the obstacles as the frame about to be rendered shows them
         let cam = {
@@ -442,6 +452,15 @@ fn run_scene(
                 }),
             }
         }
+        let columns: Vec<f32> = out.afs.iter().map(|a| f32::from(a.x)).collect();
+        let in_view: Vec<(f32, f32)> = silhouettes
+            .iter()
+            .flatten()
+            .map(|&(_, l, r)| (l, r))
+            .collect();
+        let matched = own_fields(&in_view, &columns);
+        own = own.max(matched);
+        own_frames += u32::from(!in_view.is_empty() && matched == in_view.len());
         if out.afs.len() >= max_afs && !out.afs.is_empty() {
             max_afs = out.afs.len();
             localised = silhouettes
@@ -468,6 +487,8 @@ fn run_scene(
         peak_lplc2_sum: peak,
         peak_frame,
         localised,
+        own,
+        own_frames,
         tracks,
         object_columns,
         observed,
@@ -501,7 +522,7 @@ impl Report for StimuliReport {
         let _ = writeln!(out, "observer {}", self.placement.describe());
         let _ = writeln!(
             out,
-            "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9}",
+            "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9} {:>9}",
             "scene",
             "objects",
             "looming",
@@ -511,12 +532,13 @@ impl Report for StimuliReport {
             "short",
             "max AFs",
             "localised",
+            "own (fr)",
             "peak sum"
         );
         for s in &self.scenes {
             let _ = writeln!(
                 out,
-                "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9}",
+                "{:<10} {:>7} {:>7} {:>6} {:>6} {:>11} {:>6} {:>7} {:>9} {:>9} {:>9}",
                 s.name,
                 s.objects,
                 s.looming,
@@ -526,6 +548,7 @@ impl Report for StimuliReport {
                 s.short_mode_frames,
                 s.max_afs,
                 format!("{}/{}", s.localised, s.objects),
+                format!("{}/{} ({})", s.own, s.objects, s.own_frames),
                 s.peak_lplc2_sum
             );
         }
@@ -563,6 +586,39 @@ impl Report for StimuliReport {
 }
 
 /// Column of every attention field and every obstacle over time.
+/// How many of the obstacles (`(left, right)` silhouette columns) can each have a field of
+/// their own among the fields at `columns`: the largest one-to-one matching, a field matching
+/// an obstacle whose silhouette widened by [`LOCALISED_PX`] holds its column (augmenting
+/// paths; a handful of each).
+pub fn own_fields(obstacles: &[(f32, f32)], columns: &[f32]) -> usize {
+    let on = |o: usize, f: usize| {
+        let (l, r) = obstacles[o];
+        (l - LOCALISED_PX..=r + LOCALISED_PX).contains(&columns[f])
+    };
+    // owner[f]: the obstacle field f is matched to
+    let mut owner: Vec<Option<usize>> = vec![None; columns.len()];
+    fn augment(
+        o: usize,
+        seen: &mut [bool],
+        owner: &mut [Option<usize>],
+        on: &dyn Fn(usize, usize) -> bool,
+    ) -> bool {
+        for f in 0..owner.len() {
+            if on(o, f) && !seen[f] {
+                seen[f] = true;
+                if owner[f].is_none_or(|p| augment(p, seen, owner, on)) {
+                    owner[f] = Some(o);
+                    return true;
+                }
+            }
+        }
+        false
+    }
+    (0..obstacles.len())
+        .filter(|&o| augment(o, &mut vec![false; columns.len()], &mut owner, &on))
+        .count()
+}
+
 fn tracks_plot(s: &SceneResult) -> Plot {
     let n = s.frames as usize;
     let mut plot = Plot::new(&format!(
@@ -591,6 +647,30 @@ fn tracks_plot(s: &SceneResult) -> Plot {
 mod tests {
     use super::*;
     use crate::experiments::stage::MIN_CLEARANCE_MM;
+
+    /// One field over three obstacles localises all three but gives only one a field of its
+    /// own; a field per obstacle gives each its own, whatever the order; a field between two
+    /// obstacles' widened silhouettes goes to whichever needs it.
+    #[test]
+    fn each_obstacle_needs_a_field_of_its_own() {
+        let three = [(10.0, 20.0), (40.0, 50.0), (70.0, 80.0)];
+        assert_eq!(own_fields(&three, &[45.0]), 1);
+        assert_eq!(own_fields(&three, &[75.0, 15.0, 45.0]), 3);
+        assert_eq!(
+            own_fields(&three, &[15.0, 16.0, 45.0]),
+            2,
+            "two on one obstacle"
+        );
+        assert_eq!(own_fields(&three, &[]), 0);
+        assert_eq!(own_fields(&[], &[15.0]), 0);
+        // 22 is on the first (widened to 23) only, 38 on the second only (from 37): with 22
+        // taken by the first, the second still gets 38
+        assert_eq!(own_fields(&three[..2], &[22.0, 38.0]), 2);
+        // a field on both widened silhouettes moves over to free one for the other
+        let touching = [(10.0, 20.0), (24.0, 30.0)];
+        assert_eq!(own_fields(&touching, &[22.0, 12.0]), 2);
+        assert_eq!(own_fields(&touching, &[22.0]), 1);
+    }
 
     /// The stage holds every path the scenes' obstacles drive: simulated in the replica from
     /// where its observer stands, each obstacle's centre stays on its stage path and clear of

@@ -210,7 +210,7 @@ fn stimuli_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Resu
     let n = runs.len();
     let _ = writeln!(
         t,
-        "| scene | objects | seeds with an alert | alert frames | first alert (frame) | short-mode frames | most fields | seeds with every object localised |\n|---|---:|---:|---|---|---|---|---:|"
+        "| scene | objects | seeds with an alert | alert frames | first alert (frame) | short-mode frames | most fields | seeds with every object localised | seeds with every object in a field of its own | frames with every object in view in a field of its own |\n|---|---:|---:|---|---|---|---|---:|---:|---|"
     );
     for (k, s) in stimuli::scenes().iter().enumerate() {
         let of = |f: &dyn Fn(&stimuli::SceneResult) -> u32| -> Vec<u32> {
@@ -223,7 +223,7 @@ fn stimuli_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Resu
         let objects = runs.first().map_or(0, |r| r.scenes[k].objects);
         let _ = writeln!(
             t,
-            "| {} | {} | {}/{n} | {} | {} | {} | {} | {}/{n} |",
+            "| {} | {} | {}/{n} | {} | {} | {} | {} | {}/{n} | {}/{n} | {} |",
             s.name,
             objects,
             firsts.len(),
@@ -234,6 +234,8 @@ fn stimuli_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Resu
             runs.iter()
                 .filter(|r| r.scenes[k].localised == objects)
                 .count(),
+            runs.iter().filter(|r| r.scenes[k].own == objects).count(),
+            range(&of(&|s| s.own_frames)),
         );
     }
     Ok(t)
