@@ -238,7 +238,7 @@ impl Fields {
         if self.list.is_full() || self.list.len() >= usize::from(p.firmware.max_fields) {
             return None;
         }
-        let r = usize::from(p.r_exclusion());
+        let r = usize::from(p.table1.r_af);
         let mut best = (0u32, 0usize, 0usize);
         // covered columns of a row as half-open intervals, sorted by start (`cov[..k]` is
         // rewritten for every row; kept out of the loop so it is not cleared per row)
@@ -425,7 +425,7 @@ impl Fields {
             for x in 0..WIDTH {
                 let i = y * WIDTH + x;
                 let l = w.saliency(m.on(i), m.off(i));
-                if l > best.0 && !self.covers(x, y, p.r_exclusion()) {
+                if l > best.0 && !self.covers(x, y, p.table1.r_af) {
                     best = (l, x, y);
                 }
             }

@@ -73,12 +73,6 @@ param_groups! {
             /// Half side of the window in which a centroid is re-estimated, Eq. (4); at most `R_AF`.
             /// The paper uses the whole field; its authors' simulator uses a window of half `R_AF`.
             r_c: u8 = Range::Int(1, 99),
-            /// Half side of a field's exclusion zone: the square around its centroid in which no
-            /// new field is born (Eq. 3) and into which another field's centroid may not move
-            /// (Eq. 5). `None` (0): the field's own square, `R_AF` (the paper's text). The authors'
-            /// multi-field simulator keeps it apart from the field (`AF_Radius_Exclusive`); see
-            /// `docs/model.md`, "Capacity".
-            r_x: Option<NonZeroU8> = Range::Int(0, 99),
             /// Relative saliency floor of the centroid moments, Eq. (4), in percent of the window's peak:
             /// weaker pixels do not pull the centroid. Unstated; the paper's firmware thresholds its OFF
             /// map before the moments in the same spirit (`docs/model.md`).
@@ -266,7 +260,6 @@ impl Params {
             gain: 4,
             lm_shift: 8,
             r_c: 36,
-            r_x: None,
             c_frac: 50,
             q_floor: 250,
             q_balance: 15,
@@ -400,11 +393,6 @@ impl Params {
     /// for an unknown name.
     pub fn range(name: &str) -> Option<Range> {
         Params::position(name).map(|i| Params::RANGES[i])
-    }
-
-    /// Half side of a field's exclusion zone (Eqs. 3 and 5): `choices.r_x`, or `R_AF`.
-    pub fn r_exclusion(&self) -> u8 {
-        self.choices.r_x.map_or(self.table1.r_af, NonZeroU8::get)
     }
 
     /// Checks every value is in the range the model can compute with (no panic, no overflow).
@@ -810,7 +798,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 36);
+        assert_eq!(Params::NAMES.len(), 35);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));
