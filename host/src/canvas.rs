@@ -1,10 +1,18 @@
 //! A small, dependency-light RGB raster canvas for ALVS pictures: retina maps, attention-field
-//! overlays, labels in a built-in 5x7 bitmap font, simple line plots, and 8-bit RGB PNG output.
+//! overlays, labels in embedded-graphics' 5x7 bitmap font, simple line plots, and 8-bit RGB PNG
+//! output.
 //!
 //! Coordinates are `i32` with (0, 0) at the top-left; every drawing call clips to the canvas,
 //! so drawing partly or wholly off-canvas never panics.
 
-use std::{io, ops::Range, path::Path};
+use std::{convert::Infallible, io, ops::Range, path::Path};
+
+use embedded_graphics::{
+    mono_font::{ascii::FONT_5X7, MonoFont, MonoTextStyle},
+    pixelcolor::BinaryColor,
+    prelude::{DrawTarget, Drawable, OriginDimensions, Pixel, Point, Size},
+    text::{Baseline, LineHeight, Text, TextStyleBuilder},
+};
 
 mod histogram;
 pub use histogram::Histogram;
@@ -17,12 +25,17 @@ pub const WHITE: Rgb = [255, 255, 255];
 /// The colour of plot markers (e.g. alerts).
 pub const RED: Rgb = [220, 20, 20];
 
-/// Horizontal advance of one character at scale 1 (5 glyph pixels and 1 of spacing).
-pub const CHAR_ADVANCE: usize = 6;
-/// Glyph height at scale 1.
-pub const CHAR_HEIGHT: usize = 7;
-/// Distance between text lines at scale 1.
-const LINE_ADVANCE: usize = 9;
+/// The labels' font: embedded-graphics' ASCII 5x7 (X11 misc-fixed); its 5-pixel cells hold
+/// 4-pixel-wide glyphs and the gap, so it adds no spacing of its own.
+const LABEL_FONT: MonoFont<'static> = FONT_5X7;
+/// Pixels the font puts between two character cells at scale 1.
+const CHAR_SPACING: usize = LABEL_FONT.character_spacing as usize;
+/// Horizontal advance of one character at scale 1 (the font's cell width and spacing).
+pub const CHAR_ADVANCE: usize = LABEL_FONT.character_size.width as usize + CHAR_SPACING;
+/// Glyph (cell) height at scale 1.
+pub const CHAR_HEIGHT: usize = LABEL_FONT.character_size.height as usize;
+/// Distance between text lines at scale 1 (2 blank rows between lines).
+const LINE_ADVANCE: usize = CHAR_HEIGHT + 2;
 
 /// An RGB raster image.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -145,33 +158,28 @@ impl Canvas {
         self.fill64(x, y - s, 1, 2 * s + 1, colour);
     }
 
-    /// Writes `s` in the built-in 5x7 font with its top-left corner at (x, y); each font pixel is
-    /// `scale` x `scale` canvas pixels (0 counts as 1). `'\n'` starts a new line; characters
-    /// without a glyph are drawn as a hollow box.
+    /// Writes `s` in embedded-graphics' 5x7 font with its top-left corner at (x, y); each font
+    /// pixel is `scale` x `scale` canvas pixels (0 counts as 1). `'\n'` starts a new line (a
+    /// `'\r'` before it is dropped); characters outside printable ASCII are drawn as `'?'`.
     pub fn text(&mut self, x: i32, y: i32, s: &str, colour: Rgb, scale: usize) {
         let k = scale.clamp(1, 1024) as i64;
-        let (x, mut cy) = (i64::from(x), i64::from(y));
-        let mut cx = x;
-        for ch in s.chars() {
-            if ch == '\n' {
-                (cx, cy) = (x, cy + LINE_ADVANCE as i64 * k);
-                continue;
-            }
-            for (r, bits) in (0..).zip(glyph(ch)) {
-                for c in (0..5).filter(|c| bits >> (4 - c) & 1 == 1) {
-                    self.fill64(cx + c * k, cy + r * k, k, k, colour);
-                }
-            }
-            cx += CHAR_ADVANCE as i64 * k;
-        }
+        let mut view = Scaled {
+            canvas: self,
+            origin: (x.into(), y.into()),
+            k,
+            colour,
+        };
+        let Ok(_) = label_text(s).draw(&mut view);
     }
 
-    /// The (width, height) in pixels that [`Canvas::text`] covers for `s` at `scale`.
+    /// The (width, height) in pixels that [`Canvas::text`] covers for `s` at `scale`: the widest
+    /// line's cells (without spacing after the last) by the lines' advance and one cell height.
     pub fn text_size(s: &str, scale: usize) -> (usize, usize) {
         let k = scale.clamp(1, 1024);
-        let widest = s.split('\n').map(|l| l.chars().count()).max().unwrap_or(0);
+        let line_len = |l: &str| l.strip_suffix('\r').unwrap_or(l).chars().count();
+        let widest = s.split('\n').map(line_len).max().unwrap_or(0);
         let lines = s.split('\n').count();
-        let w = (widest * CHAR_ADVANCE).saturating_sub(1) * k;
+        let w = (widest * CHAR_ADVANCE).saturating_sub(CHAR_SPACING) * k;
         let h = ((lines - 1) * LINE_ADVANCE + CHAR_HEIGHT) * k;
         if s.is_empty() {
             (0, 0)
@@ -232,9 +240,54 @@ impl Canvas {
     }
 }
 
-fn glyph(ch: char) -> [u8; 7] {
-    let tofu = [0x1f, 0x11, 0x11, 0x11, 0x11, 0x11, 0x1f];
-    FONT.iter().find(|(c, _)| *c == ch).map_or(tofu, |g| g.1)
+/// `s` laid out by embedded-graphics in [`LABEL_FONT`], top-left corner at font pixel (0, 0),
+/// lines [`LINE_ADVANCE`] apart.
+fn label_text(s: &str) -> Text<'_, MonoTextStyle<'static, BinaryColor>> {
+    let style = MonoTextStyle::new(&LABEL_FONT, BinaryColor::On);
+    let layout = TextStyleBuilder::new()
+        .baseline(Baseline::Top)
+        .line_height(LineHeight::Pixels(LINE_ADVANCE as u32))
+        .build();
+    Text::with_text_style(s, Point::zero(), style, layout)
+}
+
+/// The canvas as embedded-graphics sees it when drawing text: font pixel (0, 0) is canvas pixel
+/// `origin`, and each font pixel a `k` x `k` block of `colour` (clipped like every drawing call).
+struct Scaled<'a> {
+    canvas: &'a mut Canvas,
+    origin: (i64, i64),
+    k: i64,
+    colour: Rgb,
+}
+
+impl DrawTarget for Scaled<'_> {
+    type Color = BinaryColor;
+    type Error = Infallible;
+
+    fn draw_iter<I>(&mut self, pixels: I) -> Result<(), Infallible>
+    where
+        I: IntoIterator<Item = Pixel<BinaryColor>>,
+    {
+        let ((x, y), k) = (self.origin, self.k);
+        for Pixel(p, _) in pixels.into_iter().filter(|p| p.1.is_on()) {
+            let (px, py) = (x + i64::from(p.x) * k, y + i64::from(p.y) * k);
+            self.canvas.fill64(px, py, k, k, self.colour);
+        }
+        Ok(())
+    }
+}
+
+impl OriginDimensions for Scaled<'_> {
+    /// The font pixels from the origin to the canvas' right and bottom edges (drawing elsewhere
+    /// is clipped, not refused).
+    fn size(&self) -> Size {
+        let fit = |len: usize, at: i64| {
+            let px = (len as i64 - at).max(0);
+            u32::try_from((px + self.k - 1) / self.k).unwrap_or(u32::MAX)
+        };
+        let (w, h) = (self.canvas.width, self.canvas.height);
+        Size::new(fit(w, self.origin.0), fit(h, self.origin.1))
+    }
 }
 
 /// A `w*scale` x `h*scale` map of `values` (row-major), each value painted by
@@ -510,96 +563,6 @@ enum Swatch {
     Block(Rgb),
 }
 
-/// The 5x7 font: seven rows per glyph, top first, bit 4 = leftmost pixel.
-#[rustfmt::skip]
-static FONT: &[(char, [u8; 7])] = &[
-    ('0', [0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e]),
-    ('1', [0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e]),
-    ('2', [0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f]),
-    ('3', [0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e]),
-    ('4', [0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02]),
-    ('5', [0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e]),
-    ('6', [0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e]),
-    ('7', [0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08]),
-    ('8', [0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e]),
-    ('9', [0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c]),
-    ('A', [0x0e, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11]),
-    ('B', [0x1e, 0x11, 0x11, 0x1e, 0x11, 0x11, 0x1e]),
-    ('C', [0x0e, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0e]),
-    ('D', [0x1c, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1c]),
-    ('E', [0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x1f]),
-    ('F', [0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x10]),
-    ('G', [0x0e, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0f]),
-    ('H', [0x11, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11]),
-    ('I', [0x0e, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e]),
-    ('J', [0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0c]),
-    ('K', [0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11]),
-    ('L', [0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1f]),
-    ('M', [0x11, 0x1b, 0x15, 0x15, 0x11, 0x11, 0x11]),
-    ('N', [0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11]),
-    ('O', [0x0e, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e]),
-    ('P', [0x1e, 0x11, 0x11, 0x1e, 0x10, 0x10, 0x10]),
-    ('Q', [0x0e, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0d]),
-    ('R', [0x1e, 0x11, 0x11, 0x1e, 0x14, 0x12, 0x11]),
-    ('S', [0x0f, 0x10, 0x10, 0x0e, 0x01, 0x01, 0x1e]),
-    ('T', [0x1f, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04]),
-    ('U', [0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e]),
-    ('V', [0x11, 0x11, 0x11, 0x11, 0x11, 0x0a, 0x04]),
-    ('W', [0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0a]),
-    ('X', [0x11, 0x11, 0x0a, 0x04, 0x0a, 0x11, 0x11]),
-    ('Y', [0x11, 0x11, 0x0a, 0x04, 0x04, 0x04, 0x04]),
-    ('Z', [0x1f, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1f]),
-    ('a', [0x00, 0x00, 0x0e, 0x01, 0x0f, 0x11, 0x0f]),
-    ('b', [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1e]),
-    ('c', [0x00, 0x00, 0x0e, 0x10, 0x10, 0x11, 0x0e]),
-    ('d', [0x01, 0x01, 0x0d, 0x13, 0x11, 0x11, 0x0f]),
-    ('e', [0x00, 0x00, 0x0e, 0x11, 0x1f, 0x10, 0x0e]),
-    ('f', [0x06, 0x09, 0x08, 0x1c, 0x08, 0x08, 0x08]),
-    ('g', [0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x0e]),
-    ('h', [0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11]),
-    ('i', [0x04, 0x00, 0x0c, 0x04, 0x04, 0x04, 0x0e]),
-    ('j', [0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0c]),
-    ('k', [0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12]),
-    ('l', [0x0c, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e]),
-    ('m', [0x00, 0x00, 0x1a, 0x15, 0x15, 0x11, 0x11]),
-    ('n', [0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11]),
-    ('o', [0x00, 0x00, 0x0e, 0x11, 0x11, 0x11, 0x0e]),
-    ('p', [0x00, 0x00, 0x1e, 0x11, 0x1e, 0x10, 0x10]),
-    ('q', [0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x01]),
-    ('r', [0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10]),
-    ('s', [0x00, 0x00, 0x0f, 0x10, 0x0e, 0x01, 0x1e]),
-    ('t', [0x08, 0x08, 0x1c, 0x08, 0x08, 0x09, 0x06]),
-    ('u', [0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0d]),
-    ('v', [0x00, 0x00, 0x11, 0x11, 0x11, 0x0a, 0x04]),
-    ('w', [0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0a]),
-    ('x', [0x00, 0x00, 0x11, 0x0a, 0x04, 0x0a, 0x11]),
-    ('y', [0x00, 0x00, 0x11, 0x11, 0x0f, 0x01, 0x0e]),
-    ('z', [0x00, 0x00, 0x1f, 0x02, 0x04, 0x08, 0x1f]),
-    (' ', [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00]),
-    ('.', [0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c]),
-    (',', [0x00, 0x00, 0x00, 0x00, 0x0c, 0x04, 0x08]),
-    (':', [0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x0c, 0x00]),
-    (';', [0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x04, 0x08]),
-    ('-', [0x00, 0x00, 0x00, 0x1f, 0x00, 0x00, 0x00]),
-    ('+', [0x00, 0x04, 0x04, 0x1f, 0x04, 0x04, 0x00]),
-    ('_', [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1f]),
-    ('=', [0x00, 0x00, 0x1f, 0x00, 0x1f, 0x00, 0x00]),
-    ('(', [0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02]),
-    (')', [0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08]),
-    ('/', [0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00]),
-    ('%', [0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03]),
-    ('#', [0x0a, 0x0a, 0x1f, 0x0a, 0x1f, 0x0a, 0x0a]),
-    ('<', [0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02]),
-    ('>', [0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08]),
-    ('[', [0x0e, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0e]),
-    (']', [0x0e, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0e]),
-    ('!', [0x04, 0x04, 0x04, 0x04, 0x04, 0x00, 0x04]),
-    ('?', [0x0e, 0x11, 0x01, 0x02, 0x04, 0x00, 0x04]),
-    ('*', [0x00, 0x04, 0x15, 0x0e, 0x15, 0x04, 0x00]),
-    ('\'', [0x04, 0x04, 0x08, 0x00, 0x00, 0x00, 0x00]),
-    ('|', [0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04]),
-];
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -701,22 +664,19 @@ mod tests {
 
     #[test]
     fn font_covers_the_label_characters() {
-        for ch in ('0'..='9')
+        let labels = ('0'..='9')
             .chain('A'..='Z')
             .chain('a'..='z')
-            .chain(".,:;-+_=()/%#<>[]".chars())
-        {
-            let g = FONT.iter().find(|(c, _)| *c == ch).map(|(_, g)| g);
-            assert!(
-                g.is_some_and(|g| g.iter().any(|&row| row != 0)),
-                "no glyph for {ch:?}"
-            );
-        }
-        for (i, (a, ga)) in FONT.iter().enumerate() {
-            assert!(ga.iter().all(|&row| row < 32), "{a:?} is wider than 5");
-            for (b, gb) in &FONT[i + 1..] {
-                assert!(a != b && ga != gb, "{a:?} and {b:?} clash");
+            .chain(".,:;-+_=()/%#<>[]".chars());
+        let mut seen: Vec<(char, Vec<Rgb>)> = Vec::new();
+        for ch in labels {
+            let mut c = Canvas::new(CHAR_ADVANCE + 2, CHAR_HEIGHT + 2, BLACK);
+            c.text(1, 1, &ch.to_string(), WHITE, 1);
+            assert!(count(&c, WHITE) > 0, "{ch:?} draws nothing");
+            if let Some((other, _)) = seen.iter().find(|(_, p)| *p == c.pixels) {
+                panic!("{other:?} and {ch:?} draw the same pixels");
             }
+            seen.push((ch, c.pixels));
         }
     }
 
@@ -742,6 +702,24 @@ mod tests {
             }
         }
         assert_eq!(Canvas::text_size("", 1), (0, 0));
+    }
+
+    #[test]
+    fn text_size_matches_the_layout() {
+        use embedded_graphics::prelude::Dimensions;
+        for s in [
+            "L_ON t=37",
+            "frame\n[0]",
+            "a\n\nlonger line",
+            "x\r\nyz",
+            "\u{e9}t\u{e9}",
+        ] {
+            let b = label_text(s).bounding_box();
+            assert_eq!(b.top_left, Point::zero(), "{s:?}");
+            let (w, h) = (b.size.width as usize, b.size.height as usize);
+            assert_eq!(Canvas::text_size(s, 1), (w, h), "{s:?}");
+            assert_eq!(Canvas::text_size(s, 3), (3 * w, 3 * h), "{s:?}");
+        }
     }
 
     #[test]
