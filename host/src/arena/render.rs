@@ -214,8 +214,8 @@ pub struct SensorNoise {
     /// the picture is the mean of [`EXPOSURE_SAMPLES`] views along the bodies' straight-line
     /// motion over the last `exposure · 33 ms` of the frame, so what moves while the shutter
     /// is open is smeared. An OV7670 under lab light exposes for most of the frame period
-    /// (`docs/notes/2026-11-27-closed-loop-mechanisms.md`, "Camera exposure"); 0 keeps the snapshots every figure was
-    /// measured with.
+    /// (`docs/notes/2026-11-27-closed-loop-mechanisms.md`, "Camera exposure"); 0 keeps the
+    /// snapshots every figure was measured with.
     pub exposure: f32,
     /// Standard deviation of the camera's pitch jitter while its body moves, degrees (one
     /// independent draw per frame): a 4 cm robot rocks on its axle and caster as its
