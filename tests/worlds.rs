@@ -29,12 +29,22 @@ fn digest(v: &Value) -> u64 {
 }
 
 /// A report's JSON without what may differ between runs or was added with the worlds: the
-/// wall-clock times, the configuration echo, and the world and placement keys.
+/// wall-clock times, the configuration echo, and the world and placement keys; and the
+/// stimuli's `own` and `own_frames`, added later and computed from the fields' tracks and the
+/// obstacles' columns that the digest holds.
 fn results(mut v: Value) -> Value {
     fn strip(v: &mut Value) {
         match v {
             Value::Object(m) => {
-                for k in ["wall_clock_s", "config", "world", "start", "observer"] {
+                for k in [
+                    "wall_clock_s",
+                    "config",
+                    "world",
+                    "start",
+                    "observer",
+                    "own",
+                    "own_frames",
+                ] {
                     m.remove(k);
                 }
                 m.values_mut().for_each(strip);
