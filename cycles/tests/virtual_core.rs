@@ -4,7 +4,7 @@
 use alvs_cycles::system::{Board, Config};
 
 mod thumb;
-use thumb::{mov32, str, B_SELF};
+use thumb::{mov32, place, put_word, str, B_SELF};
 
 const RESET: u32 = 0x0800_0100;
 const HANDLER_A: u32 = 0x0800_0200;
@@ -25,24 +25,22 @@ const MSR_BASEPRI_R2: [u16; 2] = [0xF382, 0x8811];
 /// the code at their addresses.
 fn image(reset: &[u16], a: &[u16], b: &[u16], hard_fault: &[u16]) -> Vec<u8> {
     let mut flash = vec![0u8; 0x500];
-    let mut put = |at: u32, v: u32| {
-        flash[at as usize..at as usize + 4].copy_from_slice(&v.to_le_bytes());
-    };
-    put(0, 0x1001_0000);
-    put(4, RESET | 1);
-    put(12, HARD_FAULT | 1);
-    put(64, HANDLER_A | 1);
-    put(68, HANDLER_B | 1);
+    for (offset, v) in [
+        (0, 0x1001_0000),
+        (4, RESET | 1),
+        (12, HARD_FAULT | 1),
+        (64, HANDLER_A | 1),
+        (68, HANDLER_B | 1),
+    ] {
+        put_word(&mut flash, offset, v);
+    }
     for (at, code) in [
         (RESET, reset),
         (HANDLER_A, a),
         (HANDLER_B, b),
         (HARD_FAULT, hard_fault),
     ] {
-        for (k, h) in code.iter().enumerate() {
-            let o = (at - 0x0800_0000) as usize + 2 * k;
-            flash[o..o + 2].copy_from_slice(&h.to_le_bytes());
-        }
+        place(&mut flash, at, code);
     }
     flash
 }

@@ -5,6 +5,22 @@
 // each user takes part of this module
 #![allow(dead_code)]
 
+/// Flash starts here in the memory map.
+pub const FLASH_BASE: u32 = 0x0800_0000;
+
+/// Writes the little-endian word `v` at byte `offset` of a flash image (a vector table entry).
+pub fn put_word(flash: &mut [u8], offset: usize, v: u32) {
+    flash[offset..offset + 4].copy_from_slice(&v.to_le_bytes());
+}
+
+/// Writes the halfwords of `code` into a flash image at flash address `at`.
+pub fn place(flash: &mut [u8], at: u32, code: &[u16]) {
+    let start = (at - FLASH_BASE) as usize;
+    for (k, h) in code.iter().enumerate() {
+        flash[start + 2 * k..start + 2 * k + 2].copy_from_slice(&h.to_le_bytes());
+    }
+}
+
 /// movw rd, #imm16
 pub fn movw(rd: u16, imm: u16) -> [u16; 2] {
     let (i, imm4, imm3, imm8) = ((imm >> 11) & 1, imm >> 12, (imm >> 8) & 7, imm & 0xFF);

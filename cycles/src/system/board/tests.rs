@@ -7,7 +7,7 @@ use super::*;
 
 #[path = "../../../tests/thumb/mod.rs"]
 mod thumb;
-use thumb::{mov32, B_SELF};
+use thumb::{mov32, place, put_word, B_SELF};
 
 const RESET: u32 = 0x0800_0100;
 /// A word of SRAM the programs below keep a count in.
@@ -18,12 +18,9 @@ const TOP: u32 = 0x1001_0000;
 /// A flash image: SP = top of CCM, the reset vector, and `code` at [`RESET`].
 fn image(code: &[u16]) -> Vec<u8> {
     let mut flash = vec![0u8; 0x200];
-    flash[0..4].copy_from_slice(&TOP.to_le_bytes());
-    flash[4..8].copy_from_slice(&(RESET | 1).to_le_bytes());
-    for (k, h) in code.iter().enumerate() {
-        let o = (RESET - FLASH.start) as usize + 2 * k;
-        flash[o..o + 2].copy_from_slice(&h.to_le_bytes());
-    }
+    put_word(&mut flash, 0, TOP);
+    put_word(&mut flash, 4, RESET | 1);
+    place(&mut flash, RESET, code);
     flash
 }
 
