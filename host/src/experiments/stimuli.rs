@@ -463,15 +463,9 @@ fn run_scene(
         own_frames += u32::from(!in_view.is_empty() && matched == in_view.len());
         if out.afs.len() >= max_afs && !out.afs.is_empty() {
             max_afs = out.afs.len();
-            localised = silhouettes
+            localised = in_view
                 .iter()
-                .flatten()
-                .filter(|&&(_, l, r)| {
-                    out.afs.iter().any(|a| {
-                        let x = f32::from(a.x);
-                        x >= l - LOCALISED_PX && x <= r + LOCALISED_PX
-                    })
-                })
+                .filter(|&&o| columns.iter().any(|&c| sits_on(o, c)))
                 .count();
         }
     }
@@ -586,15 +580,18 @@ impl Report for StimuliReport {
 }
 
 /// Column of every attention field and every obstacle over time.
+/// Whether a field at `column` sits on the obstacle whose silhouette spans columns
+/// `(left, right)`: within it, widened by [`LOCALISED_PX`] on each side.
+fn sits_on((left, right): (f32, f32), column: f32) -> bool {
+    (left - LOCALISED_PX..=right + LOCALISED_PX).contains(&column)
+}
+
 /// How many of the obstacles (`(left, right)` silhouette columns) can each have a field of
 /// their own among the fields at `columns`: the largest one-to-one matching, a field matching
 /// an obstacle whose silhouette widened by [`LOCALISED_PX`] holds its column (augmenting
 /// paths; a handful of each).
 pub fn own_fields(obstacles: &[(f32, f32)], columns: &[f32]) -> usize {
-    let on = |o: usize, f: usize| {
-        let (l, r) = obstacles[o];
-        (l - LOCALISED_PX..=r + LOCALISED_PX).contains(&columns[f])
-    };
+    let on = |o: usize, f: usize| sits_on(obstacles[o], columns[f]);
     // owner[f]: the obstacle field f is matched to
     let mut owner: Vec<Option<usize>> = vec![None; columns.len()];
     fn augment(

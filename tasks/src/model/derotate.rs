@@ -23,11 +23,11 @@
 //! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
 //! The remap is done in place in two separable passes (rows, two at a time, then columns),
 //! each reading the old pixels from a copy of the row or column: `P(t−1)` interpolated between
-//! its two nearest source pixels, the cells (four packed means each) from the nearest one. What came into view has no past:
-//! the means and delay line there are 0 and `P(t−1)` takes the new frame's pixels
-//! ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so new content is not
-//! mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a turn also moves
-//! it sideways by a few mm; that parallax is not predicted.
+//! its two nearest source pixels, the cells (four packed means each) from the nearest one.
+//! What came into view has no past: the means and delay line there are 0 and `P(t−1)` takes
+//! the new frame's pixels ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so
+//! new content is not mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a
+//! turn also moves it sideways by a few mm; that parallax is not predicted.
 
 use crate::frame::{CENTRE_X as CX, HEIGHT, PIXELS, WIDTH};
 
