@@ -655,8 +655,8 @@ pub fn clips(dir: &Path, only: Option<&[&str]>) -> Result<Vec<Scene>, String> {
         .collect()
 }
 
-/// The looming clips' folder, relative to the workspace root (`tests/data/README.md`).
-pub const CLIPS_DIR: &str = "tests/data/clips";
+/// The looming clips' folder, relative to the workspace root (`data/README.md`).
+pub const CLIPS_DIR: &str = "data/clips";
 
 /// The clips the CI gate runs besides the constructed worst cases (all 23 take ~4 minutes
 /// under the model; `alvs-budget --all-clips` runs them): the most expensive ones of a full run

@@ -1,6 +1,6 @@
 //! The deadline and RAM budget of the firmware, proven on the Cortex-M4 cycle model: the
 //! firmware's own release build, its exported `alvs_bench_step`, on constructed worst cases and
-//! the busiest looming clips of `tests/data/clips`. Gates CI:
+//! the busiest looming clips of `data/clips`. Gates CI:
 //! - outputs bit-identical to the host build of the same code on every frame;
 //! - counts identical run to run;
 //! - pessimistic worst case ≤ 80 % of the 6.0 M-cycle frame period;

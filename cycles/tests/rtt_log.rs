@@ -138,7 +138,7 @@ fn a_clean_session_sums_to_the_boards_counters() {
         "clean",
         &[
             "--clip",
-            "tests/data/clips/real_bird_attack.y8",
+            "data/clips/real_bird_attack.y8",
             "--seconds",
             "1.5",
         ],

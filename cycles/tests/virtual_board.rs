@@ -351,12 +351,12 @@ fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let out = run_in(&clips, "tests/data/clips/test_grating.y8");
+    let out = run_in(&clips, "data/clips/test_grating.y8");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "not the workspace's path");
     assert_eq!(
         stderr.trim_end(),
-        "alvs-virtual: --clip tests/data/clips/test_grating.y8: No such file or directory (os error 2)"
+        "alvs-virtual: --clip data/clips/test_grating.y8: No such file or directory (os error 2)"
     );
 }
 
@@ -364,7 +364,7 @@ fn the_cli_prints_the_rtt_tabs_and_the_timing_report_and_rejects_bad_clips() {
 fn closed_loop_the_firmware_turns_away_from_an_obstacle_on_its_right() {
     use alvs_cycles::system::closed_loop::evasion_trial;
     let Some(elf) = firmware() else { return };
-    let texture = alvs_host::experiments::texture("clutter:1").expect("texture");
+    let texture = alvs_sim::texture::parse("clutter:1").expect("texture");
     let e = evasion_trial(elf, Config::default(), 20.0, texture, 1);
     assert_eq!(e.error, None);
     let r = &e.result;

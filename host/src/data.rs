@@ -1,4 +1,4 @@
-//! The repository's own test data, `tests/data` (see its README): the 23 looming clips with
+//! The repository's own test data, `data` (see its README): the 23 looming clips with
 //! `manifest.csv`, and the three outdoor photographs. Tests, examples and docs read them from
 //! here; a missing or malformed file is an error naming it, never a silent skip.
 
@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
-/// `tests/data` of the repository this crate was built from.
+/// `data` of the repository this crate was built from.
 pub fn dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
 }
 
 /// The folder of the `.y8` clips and their `manifest.csv`.

@@ -1,12 +1,9 @@
 //! Host tools for ALVS: replay of recorded video through the exact firmware task code,
 //! synthetic demo scenes, and pictures.
 
-pub mod arena;
-pub mod canvas;
 pub mod clip;
 pub mod data;
 pub mod experiments;
-pub mod lgmd2;
 pub mod recordings;
 pub mod replay;
 pub mod rtt_log;

@@ -5,13 +5,13 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use alvs_host::arena::{BuiltinWorld, Kind};
 use alvs_host::experiments::ablation::{AblationConfig, Variant};
 use alvs_host::experiments::arena::{self, ArenaConfig};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
 use alvs_host::experiments::sweep::{Shard, Sweep};
 use alvs_host::experiments::{evasion, parallel, stimuli, swarm, two_threats, Report};
 use alvs_host::{clip, replay, scenes};
+use alvs_sim::{BuiltinWorld, Kind};
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
 use alvs_tasks::{Params, HEIGHT, WIDTH};
 use anyhow::{bail, Context, Result};
@@ -81,7 +81,7 @@ enum Cmd {
     /// --help` lists its options (--clip, --seconds, --blanking, --sweep-blanking, ...).
     #[command(disable_help_flag = true)]
     Virtual {
-        /// Options of alvs-virtual (e.g. --clip tests/data/clips/real_bird_attack.y8 --seconds 3).
+        /// Options of alvs-virtual (e.g. --clip data/clips/real_bird_attack.y8 --seconds 3).
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
@@ -225,7 +225,7 @@ struct ValidateArgs {
     shake_deg: f32,
     /// Height of the simulated robot's camera above the floor, mm, to calibrate the mount
     /// (docs/world.md).
-    #[arg(long, value_name = "MM", default_value_t = alvs_host::arena::render::CAMERA_HEIGHT_MM)]
+    #[arg(long, value_name = "MM", default_value_t = alvs_sim::render::CAMERA_HEIGHT_MM)]
     camera_height: f64,
     /// Pitch of the simulated robot's camera, degrees, positive = up.
     #[arg(
@@ -363,7 +363,7 @@ struct AblationArgs {
     #[arg(long = "perturbation", value_name = "NAME", value_parser = perturbation_parser())]
     perturbations: Vec<Perturbation>,
     /// Wall of the evasion part (repeatable): `world` (the world's own) or a --background
-    /// specification. Default: world, outdoor:11 and tests/data/photos/outdoor_2.jpg.
+    /// specification. Default: world, outdoor:11 and data/photos/outdoor_2.jpg.
     #[arg(long = "wall", value_name = "SPEC")]
     walls: Vec<String>,
     /// Simulated minutes of an arena trial.
@@ -1138,15 +1138,15 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
         world.contact.slip_yaw = k;
     }
     if let Some(spec) = &a.walls {
-        world.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
+        world.texture = alvs_sim::WallTexture::from_spec(spec)?;
     }
     if let Some(spec) = &a.room {
         let Some(room) = world.room.as_mut() else {
             anyhow::bail!("--room: the {world_label} world has no room above its walls");
         };
-        room.texture = alvs_host::arena::WallTexture::from_spec(spec)?;
+        room.texture = alvs_sim::WallTexture::from_spec(spec)?;
     }
-    let mount = alvs_host::arena::CameraMount {
+    let mount = alvs_sim::CameraMount {
         height_mm: a.camera_height,
         pitch_deg: a.pitch,
     };
@@ -1202,10 +1202,10 @@ fn run_validate(a: ValidateArgs) -> Result<()> {
             RunsArg::Calibration => validate::RunSet::Calibration,
             RunsArg::HeldOut => validate::RunSet::HeldOut,
         },
-        noise: alvs_host::arena::SensorNoise {
+        noise: alvs_sim::SensorNoise {
             exposure: a.camera.exposure,
             shake_deg: a.shake_deg,
-            ..alvs_host::arena::SensorNoise::typical()
+            ..alvs_sim::SensorNoise::typical()
         },
         mount,
         proximity_mm: a.proximity_mm,

@@ -11,7 +11,7 @@ use alvs_tasks::{Frame, Network, Params, Perception, HEIGHT, PIXELS, WIDTH};
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use crate::canvas::{colour_cycle, grey_map, Canvas, Plot, BLACK, WHITE};
+use alvs_sim::canvas::{colour_cycle, grey_map, Canvas, Plot, BLACK, WHITE};
 
 /// Camera frame interval (30 fps).
 pub const DT_S: f32 = 1.0 / 30.0;

@@ -1,6 +1,6 @@
 //! `alvs-budget`: the firmware's frame budget on the Cortex-M4 cycle model (what
 //! `cargo alvs budget` runs). Builds the firmware, runs its exported bench entry on the
-//! constructed worst cases and the looming clips of tests/data/clips, checks every output against
+//! constructed worst cases and the looming clips of data/clips, checks every output against
 //! the host build, and prints the table (or `--json` for tooling).
 
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ struct Args {
     /// stack peak.
     #[arg(long)]
     json: bool,
-    /// Folder of `.y8` clips (default: the workspace's tests/data/clips).
+    /// Folder of `.y8` clips (default: the workspace's data/clips).
     #[arg(long, value_name = "DIR")]
     clips: Option<PathBuf>,
     /// Run every clip of the folder (minutes), not only the CI gate's busiest four.

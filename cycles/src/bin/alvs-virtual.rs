@@ -266,7 +266,7 @@ fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
             "--evasion {bearing}: the bearing must be in -35..=35 degrees"
         ));
     }
-    let texture = alvs_host::experiments::texture(&args.background).map_err(|e| e.to_string())?;
+    let texture = alvs_sim::texture::parse(&args.background).map_err(|e| e.to_string())?;
     let Evasion {
         result,
         correct_side,
@@ -294,13 +294,13 @@ fn evasion(args: &Args, elf: Vec<u8>, bearing: f64) -> Result<(), String> {
 
 /// Top-down view of the trial: the obstacle's path in grey, the firmware robot's in colour.
 fn picture(
-    r: &alvs_host::experiments::encounter::EncounterResult,
+    r: &alvs_sim::encounter::EncounterResult,
     bearing: f64,
     correct_side: bool,
     path: &Path,
 ) -> Result<(), String> {
-    use alvs_host::arena::{TopDown, World};
-    use alvs_host::experiments::encounter::tested_start;
+    use alvs_sim::encounter::tested_start;
+    use alvs_sim::{TopDown, World};
     let mut td = TopDown::new(&World::default().arena, 0.6);
     td.title(&format!(
         "firmware on the virtual board: obstacle at {bearing:+.0} deg, {}, {}",

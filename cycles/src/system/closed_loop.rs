@@ -12,7 +12,7 @@
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 
-use alvs_host::arena::{Command, Controller, Seen};
+use alvs_sim::{Command, Controller, Seen};
 use alvs_tasks::model::fsm::State;
 use alvs_tasks::robot::motor::{self, BoardModel};
 use alvs_tasks::robot::telemetry::Record;
@@ -203,7 +203,7 @@ impl Controller for FirmwareRobot {
 
 /// The outcome of [`evasion_trial`].
 pub struct Evasion {
-    pub result: alvs_host::experiments::encounter::EncounterResult,
+    pub result: alvs_sim::encounter::EncounterResult,
     /// Turned away from the obstacle (for one dead ahead: by at least 90° either way), the
     /// criterion of `cargo alvs evasion`.
     pub correct_side: bool,
@@ -217,14 +217,15 @@ pub fn evasion_trial(
     elf: Vec<u8>,
     config: Config,
     bearing_deg: f64,
-    texture: alvs_host::arena::WallTexture,
+    texture: alvs_sim::WallTexture,
     seed: u64,
 ) -> Evasion {
-    use alvs_host::experiments::encounter::{self, Encounter, Side, Threat};
-    use alvs_host::experiments::evasion::{DEFAULT_DISTANCE_MM, DEFAULT_SPEED_MM_S};
+    use alvs_sim::encounter::{
+        self, Encounter, Side, Threat, DEFAULT_DISTANCE_MM, DEFAULT_SPEED_MM_S,
+    };
     let (robot, error) = FirmwareRobot::new(elf, config);
     let e = Encounter {
-        kind: alvs_host::arena::Kind::Alvs,
+        kind: alvs_sim::Kind::Alvs,
         threats: vec![Threat {
             bearing_deg,
             distance_mm: DEFAULT_DISTANCE_MM,
@@ -234,7 +235,7 @@ pub fn evasion_trial(
         params: alvs_tasks::Params::ALVS,
         fsm: alvs_tasks::model::fsm::FsmParams::default(),
         // the lab as `cargo alvs evasion --world lab` stages it (its designed start)
-        world: alvs_host::arena::World::with_texture(texture),
+        world: alvs_sim::World::with_texture(texture),
         start: encounter::tested_start(),
         noise: true,
         exposure: 0.0,

@@ -4,9 +4,9 @@
 //! escape to the side away from the obstacle, and did it collide? ALVS and LGMD2 meet the same
 //! obstacles with the same seeds.
 //!
-//! The geometry and outcome are [`super::encounter`]'s. The stage (the nine paths, the tested
+//! The geometry and outcome are [`alvs_sim::encounter`]'s. The stage (the nine paths, the tested
 //! robot and its escape room) stands as designed in the `lab`; in another world where it fits
-//! with the most room ([`super::stage`]), with the obstacle [`DEFAULT_DISTANCE_MM`] away or,
+//! with the most room ([`alvs_sim::stage`]), with the obstacle [`DEFAULT_DISTANCE_MM`] away or,
 //! where that does not fit, the longest distance in [`DISTANCE_STEP_MM`] steps that does.
 //!
 //! The **correct side** for an obstacle on
@@ -21,20 +21,14 @@ use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
-use super::stage::{Placement, Stage, Staged, MIN_CLEARANCE_MM};
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::{BuiltinWorld, Kind, Rng, TopDown};
-use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+use alvs_sim::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+use alvs_sim::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use alvs_sim::stage::{Placement, Stage, Staged, MIN_CLEARANCE_MM};
+use alvs_sim::{BuiltinWorld, Kind, Rng, TopDown};
 
-/// Start distance of the obstacle, mm (centre to centre): about 12 robot diameters, so the
-/// obstacle first appears about 7 pixels wide and looms for several seconds.
-pub const DEFAULT_DISTANCE_MM: f64 = 500.0;
-/// Speed of the obstacle, mm/s: the paper's robots move at about 10 cm/s. (Slower or faster
-/// obstacles do not change the outcome much: the model alerts when the obstacle is 100–150 mm
-/// away whatever its speed; see docs/experiments.md.)
-pub const DEFAULT_SPEED_MM_S: f64 = 100.0;
+pub use alvs_sim::encounter::{DEFAULT_DISTANCE_MM, DEFAULT_SPEED_MM_S};
 /// Widest bearing, degrees: the edge of the 70° field of view (paper: −35°..35°).
 pub const MAX_BEARING_DEG: f64 = 35.0;
 /// Steps of the start distance when [`DEFAULT_DISTANCE_MM`] does not fit in the world, mm.
@@ -68,7 +62,7 @@ pub struct EvasionConfig {
     pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
 }
 

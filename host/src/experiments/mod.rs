@@ -16,9 +16,9 @@
 //! by default, or the `lab`; [`BuiltinWorld`]), its walls the world's own unless a background
 //! is given, which replaces them and keeps the rest of the world ([`world_with`]). The staged
 //! experiments (`stimuli`, `evasion`, `two-threats`) stand where their geometry fits
-//! ([`stage`]); the wandering ones start clear of the walls and obstacles.
+//! ([`alvs_sim::stage`]); the wandering ones start clear of the walls and obstacles.
 //!
-//! [`encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
+//! [`alvs_sim::encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
 //! runs independent trials on worker threads; [`sweep`] splits a run into shards (`--shard
 //! I/N`) and pools them again (`alvs merge`).
 
@@ -27,15 +27,13 @@ use std::path::{Path, PathBuf};
 use alvs_tasks::Params;
 use anyhow::{bail, ensure, Context, Result};
 
-use crate::arena::{BuiltinWorld, Kind, WallTexture, World};
+use alvs_sim::Kind;
 
 pub mod ablation;
 pub mod arena;
-pub mod encounter;
 pub mod evasion;
 pub mod parallel;
 pub mod robustness;
-pub mod stage;
 pub mod stimuli;
 pub mod swarm;
 pub mod sweep;
@@ -66,7 +64,7 @@ pub trait Report {
 
 /// Writes `picture` as `dir/summary.png` (the folder created) and returns its path: the one
 /// picture of a sweep whose report is a table.
-pub fn write_summary(dir: &Path, picture: &crate::canvas::Canvas) -> Result<Vec<PathBuf>> {
+pub fn write_summary(dir: &Path, picture: &alvs_sim::canvas::Canvas) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let path = dir.join("summary.png");
     picture
@@ -84,29 +82,8 @@ pub fn validate_setup(controllers: &[Kind], params: &Params) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))
 }
 
-/// Reads a `--background` specification (`plain[:GREY]`, `stripes[:PERIOD_MM]`,
-/// `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]` or a PNG/JPEG path); the error is
-/// one line.
-pub fn texture(spec: &str) -> Result<WallTexture> {
-    let name = spec.split_once(':').map_or(spec, |(n, _)| n);
-    let known = WallTexture::NAMES.contains(&name);
-    if !known && !Path::new(spec).exists() {
-        bail!(
-            "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], checker[:SIZE_MM], \
-             clutter[:SEED], outdoor[:SEED], ribs[:PERIOD_MM[:DARK:LIGHT]] nor an existing \
-             PNG/JPEG file"
-        );
-    }
-    WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
-}
-
-/// The world a one-background experiment runs in: `world` with its walls showing `background`
-/// (a `--background` specification), or its own walls without one
-/// ([`BuiltinWorld::default_background`]); and the specification used.
-pub fn world_with(world: BuiltinWorld, background: Option<&str>) -> Result<(String, World)> {
-    let spec = world.background(background);
-    Ok((spec.to_string(), world.with_walls(texture(spec)?)))
-}
+pub use alvs_sim::texture::parse as texture;
+pub use alvs_sim::worlds::world_with;
 
 /// The JSON of an experiment: one key per controller (its serialised outcome), plus `config`.
 /// A value that cannot be serialised (never, for these plain structs) becomes `null` rather
@@ -124,18 +101,4 @@ pub fn per_controller_json<'a, T: serde::Serialize + 'a>(
     }
     map.insert("config".into(), config);
     serde_json::Value::Object(map)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn an_unknown_background_is_one_line_naming_every_form() {
-        let err = texture("nonsense:3").unwrap_err().to_string();
-        assert_eq!(err.lines().count(), 1, "{err}");
-        for name in WallTexture::NAMES {
-            assert!(err.contains(&format!("{name}[:")), "{name}: {err}");
-        }
-    }
 }

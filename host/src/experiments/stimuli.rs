@@ -7,7 +7,7 @@
 //! # Scenes
 //!
 //! The observer stands at [`OBSERVER`] facing +x in the `lab` (as designed); in another world
-//! where the paths of every scene's obstacles fit with the most room ([`super::stage`]). The
+//! where the paths of every scene's obstacles fit with the most room ([`alvs_sim::stage`]). The
 //! obstacles (ideal motors) are placed by bearing and distance from the observer's centre:
 //!
 //! | scene | obstacles |
@@ -32,17 +32,17 @@ use alvs_tasks::{Frame, Params};
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::stage::{Placement, Shape, Stage, Staged};
 use super::sweep::{Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::controller::{Approach, Stationary};
-use crate::arena::render::{column_of_bearing, CAMERA_FORWARD_MM};
-use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{
+use crate::replay::{self, Pipeline};
+use alvs_sim::canvas::Plot;
+use alvs_sim::controller::{Approach, Stationary};
+use alvs_sim::render::{column_of_bearing, CAMERA_FORWARD_MM};
+use alvs_sim::stage::{Placement, Shape, Stage, Staged};
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{
     BuiltinWorld, GyroParams, Kind, MotorParams, Pose, SensorNoise, Sim, World, FRAME_DT_S,
 };
-use crate::canvas::Plot;
-use crate::replay::{self, Pipeline};
 
 /// Observer's pose as designed (x mm, y mm, heading °): in the left part of the `lab` arena
 /// facing the right wall 900 mm away, so every obstacle is seen against the wall texture.
@@ -196,7 +196,7 @@ pub struct StimuliConfig {
     pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
 }
 
@@ -643,7 +643,7 @@ fn tracks_plot(s: &SceneResult) -> Plot {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiments::stage::MIN_CLEARANCE_MM;
+    use alvs_sim::stage::MIN_CLEARANCE_MM;
 
     /// One field over three obstacles localises all three but gives only one a field of its
     /// own; a field per obstacle gives each its own, whatever the order; a field between two

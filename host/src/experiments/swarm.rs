@@ -25,12 +25,12 @@ use serde::{Deserialize, Serialize};
 use super::arena::start_poses_among;
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::controller::Scripted;
-use crate::arena::{
+use alvs_sim::canvas::{colour_cycle, Plot, BLACK};
+use alvs_sim::controller::Scripted;
+use alvs_sim::{
     frames_in, BuiltinWorld, GyroParams, Kind, MotorParams, Obstacle, Pose, Rng, SensorNoise, Sim,
     TopDown, FRAME_DT_S,
 };
-use crate::canvas::{colour_cycle, Plot, BLACK};
 
 /// Random stream of the controllers' seeds (robot `i` takes sub-stream `i`).
 const CONTROLLER_STREAM: u64 = 0x5aa2;
@@ -62,7 +62,7 @@ pub struct SwarmConfig {
     pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
 }
 
@@ -101,7 +101,7 @@ impl SwarmConfig {
     }
 
     /// Checks the configuration and reads the background (one error line).
-    pub fn validate(&self) -> Result<crate::arena::World> {
+    pub fn validate(&self) -> Result<alvs_sim::World> {
         ensure!(
             (2..=30).contains(&self.robots),
             "--robots must be 2..=30 for a swarm, got {}",
@@ -375,7 +375,7 @@ const LEADER_STREAM: u64 = 0x1ead;
 /// ([`super::arena::START_SEPARATION_MM`], [`super::arena::START_WALL_CLEARANCE_MM`]); the
 /// first of 20,000 random tries that fits.
 pub fn leader_pose(
-    arena: &crate::arena::Arena,
+    arena: &alvs_sim::Arena,
     obstacles: &[Obstacle],
     starts: &[Pose],
     seed: u64,
@@ -408,7 +408,7 @@ pub fn leader_pose(
 
 /// Robot–robot collision episodes among the first `robots` bodies (not with the leader).
 fn robot_collisions(sim: &Sim, robots: usize) -> usize {
-    use crate::arena::{EventKind, Other};
+    use alvs_sim::{EventKind, Other};
     sim.physics
         .contacts()
         .events()
@@ -544,7 +544,7 @@ impl Report for SwarmReport {
                 let colour = if i < t.robots { colour_cycle(i) } else { BLACK };
                 td.trail(&pts, colour);
                 if let Some(e) = pts.last() {
-                    td.robot(&crate::arena::Pose::new(e.0, e.1, 0.0), colour);
+                    td.robot(&alvs_sim::Pose::new(e.0, e.1, 0.0), colour);
                 }
             }
             let c = td.into_canvas();

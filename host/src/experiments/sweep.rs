@@ -338,7 +338,7 @@ pub type StaticName = &'static str;
 pub fn static_name<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> std::result::Result<&'static str, D::Error> {
-    use crate::arena::Kind;
+    use alvs_sim::Kind;
     use alvs_tasks::model::fsm::State;
     let s = String::deserialize(d)?;
     let kinds = [Kind::Alvs, Kind::Swarm, Kind::Lgmd2].map(Kind::name);

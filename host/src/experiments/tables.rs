@@ -17,7 +17,7 @@ use super::evasion::{self, EvasionConfig};
 use super::stimuli::{self, StimuliConfig};
 use super::swarm::{self, SwarmConfig};
 use super::two_threats::{self, TwoThreatConfig};
-use crate::arena::{BuiltinWorld, Kind};
+use alvs_sim::{BuiltinWorld, Kind};
 
 /// An experiment `tables` covers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

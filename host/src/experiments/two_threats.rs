@@ -9,10 +9,10 @@
 //!
 //! The tested robot stands at the same place in every run: as designed in the `lab`
 //! ([`encounter::TESTED_START`]), elsewhere where the stage (every path the draws allow, the
-//! tested robot and its escape room) fits with the most room ([`super::stage`]).
+//! tested robot and its escape room) fits with the most room ([`alvs_sim::stage`]).
 //!
 //! A run **evades away from the faster** when the tested robot's escape turn goes to the side
-//! away from the faster obstacle ([`super::encounter`]: its heading change over its first
+//! away from the faster obstacle ([`alvs_sim::encounter`]: its heading change over its first
 //! takeoff, beyond 5°). The paper's robot
 //! "identified the faster of the two incoming robots as the more imminent threat and executed
 //! an evasion maneuver opposite to its approach".
@@ -23,12 +23,12 @@ use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
-use super::stage::{Placement, Shape, Stage, Staged};
 use super::sweep::{self, Shard, Sweep};
 use super::{parallel, Report};
-use crate::arena::{BuiltinWorld, Kind, Rng, TopDown};
-use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+use alvs_sim::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
+use alvs_sim::encounter::{self, Encounter, EncounterResult, Side, Threat, Traced};
+use alvs_sim::stage::{Placement, Shape, Stage, Staged};
+use alvs_sim::{BuiltinWorld, Kind, Rng, TopDown};
 
 /// Random stream of the runs' geometry.
 const GEOMETRY_STREAM: u64 = 0x0002_7417;
@@ -62,7 +62,7 @@ pub struct TwoThreatConfig {
     pub background: Option<String>,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
 }
 

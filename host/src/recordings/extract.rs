@@ -13,7 +13,7 @@ use super::runs::{self, RunSpec, SnapshotFile, RUNS, SOURCE_COMMIT, SOURCE_REPO}
 use super::snapshot::{find_marker, path_pixels, Rgb8, SNAPSHOT_SIZE};
 use super::track::{Extractor, Track};
 use super::{ArenaGeometry, Obstacle};
-use crate::arena::world::{ROBOT_DIAMETER_MM, ROBOT_HEIGHT_MM};
+use alvs_sim::world::{ROBOT_DIAMETER_MM, ROBOT_HEIGHT_MM};
 
 /// The camera's height above the floor, mm: assumed (see docs/recordings.md; plausible range
 /// 1000-2500 mm). It only enters through the small correction of things above the floor.

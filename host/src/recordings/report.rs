@@ -1,8 +1,8 @@
 //! What `recordings stats` shows: a table of the runs' statistics, and per run a picture of
 //! the extracted path in floor mm with histograms of its straight runs and turns.
 
-use crate::arena::{Arena, Pose, TopDown};
-use crate::canvas::{Canvas, Rgb};
+use alvs_sim::canvas::{Canvas, Rgb};
+use alvs_sim::{Arena, Pose, TopDown};
 
 use super::stats::{structure, Distribution, PathStats};
 use super::{ArenaGeometry, RunFile};

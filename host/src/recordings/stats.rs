@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::track::{Segment, Track};
-use crate::arena::world::ROBOT_RADIUS_MM;
+use alvs_sim::world::ROBOT_RADIUS_MM;
 
 /// Segment ends closer than this are one turn, mm.
 const JOIN_MM: f64 = 15.0;

@@ -12,7 +12,7 @@ use anyhow::{Context, Result};
 
 use super::report::LogReport;
 use super::Log;
-use crate::canvas::{Canvas, Histogram, Plot, Rgb, RED};
+use alvs_sim::canvas::{Canvas, Histogram, Plot, Rgb, RED};
 
 /// The band's colour of each state (light, so the series over it stay readable).
 pub fn state_colour(s: State) -> Rgb {

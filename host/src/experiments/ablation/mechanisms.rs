@@ -16,7 +16,7 @@ use alvs_tasks::Params;
 use core::num::NonZeroU8;
 use serde::Serialize;
 
-use crate::arena::Kind;
+use alvs_sim::Kind;
 
 /// A model: its perception and its motion parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,7 +7,7 @@
 //!   robustness suite (`none` by default): success, encounters, mean speed, time at a wall;
 //! - evasion (experiment 2) on each chosen wall: correct side and collisions out of 9 bearings;
 //! - two threats (experiment 3): away from the faster, and collisions;
-//! - the recorded clips (`tests/data/clips`, open loop, a standing robot): looming clips
+//! - the recorded clips (`data/clips`, open loop, a standing robot): looming clips
 //!   detected and their first alert, alerts on the clips that do not loom. Deterministic, so
 //!   once per variant rather than per seed.
 //!
@@ -31,12 +31,12 @@ use super::parallel;
 use super::robustness::{PairedArena, Perturbation, REPORT_SEEDS};
 use super::sweep::{Shard, Sweep};
 use super::two_threats::{self, TwoThreatConfig};
-use crate::arena::{frames_in, BuiltinWorld};
+use alvs_sim::{frames_in, BuiltinWorld};
 
 /// The photograph among the default evasion walls: `outdoor_2`, the soft one, on which the
 /// default's blocked-way and floor tests were hardest (docs/experiments.md). All three
 /// photographs were used while the default was tuned in the lab world; none in the replica.
-pub const PHOTOGRAPH: &str = "tests/data/photos/outdoor_2.jpg";
+pub const PHOTOGRAPH: &str = "data/photos/outdoor_2.jpg";
 
 /// What to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -221,7 +221,7 @@ impl AblationConfig {
         let two = TwoThreatConfig {
             world: self.world,
             runs: self.two_threat_runs,
-            controllers: vec![crate::arena::Kind::Alvs],
+            controllers: vec![alvs_sim::Kind::Alvs],
             ..TwoThreatConfig::default()
         }
         .total_frames();
@@ -397,7 +397,7 @@ fn replay_clips(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Measured> {
     let mut out = Vec::new();
-    if variant.kind() != crate::arena::Kind::Alvs {
+    if variant.kind() != alvs_sim::Kind::Alvs {
         return Ok(Measured::Clips(out));
     }
     let model = variant.model();

@@ -9,9 +9,9 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::{AblationConfig, AblationTrial, Measured, Part, Variant, MECHANISMS};
-use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 use crate::experiments::arena::{draw_bars, nice_ceiling, Bars};
 use crate::experiments::Report;
+use alvs_sim::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
 /// One variant on one part, seeds pooled.
 #[derive(Debug, Clone, PartialEq, Serialize)]

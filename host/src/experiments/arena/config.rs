@@ -29,7 +29,7 @@ pub struct ArenaConfig {
     pub noise: bool,
     /// Camera exposure as a fraction of the 33 ms frame period (0 = instantaneous snapshots,
     /// the default): motion during the exposure blurs the picture
-    /// ([`crate::arena::SensorNoise::exposure`]).
+    /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
     /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
     pub trace: bool,
@@ -132,7 +132,7 @@ impl ArenaConfig {
         }
         let world = self.world.world();
         let starts = start_poses_among(&world.arena, &world.obstacles, self.robots, self.seed)?;
-        let (motor, gyro, mut noise) = crate::arena::robot_noise(self.noise);
+        let (motor, gyro, mut noise) = alvs_sim::robot_noise(self.noise);
         noise.exposure = self.exposure;
         let controller_seeds = controller_seeds(self.seed, self.robots);
         Ok(Prepared {

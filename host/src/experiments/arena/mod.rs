@@ -24,7 +24,7 @@
 //!
 //! # Counting
 //!
-//! The counts are those of [`crate::arena::contacts`] (collision: centre distance below one
+//! The counts are those of [`alvs_sim::contacts`] (collision: centre distance below one
 //! diameter, 42 mm, for a robot pair and for a robot and the wall; encounter: bodies within two
 //! diameters, surface to surface; success rate = encounters without a collision / encounters;
 //! each counted once per episode). Collisions per minute are for the whole arena (all robots
@@ -40,18 +40,18 @@ use alvs_tasks::Params;
 use anyhow::{ensure, Context, Result};
 use serde::{Deserialize, Serialize};
 
-use super::encounter;
 use super::parallel;
 use super::sweep::{self, Shard, Sweep};
-use crate::arena::contacts::{
+use alvs_sim::canvas::{colour_cycle, Canvas, Rgb, BLACK, RED, WHITE};
+use alvs_sim::contacts::{
     EPISODE_HYSTERESIS_MM, ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM,
 };
-use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{
+use alvs_sim::encounter;
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{
     frames_in, Arena, BuiltinWorld, EventKind, GyroParams, Kind, MotorParams, Obstacle, Other,
     Pose, Rng, SensorNoise, Sim, SimOptions, Tally, TopDown, WallTexture, World, FRAME_DT_S,
 };
-use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, RED, WHITE};
 
 mod config;
 mod pictures;
@@ -67,7 +67,7 @@ pub use run::*;
 
 /// The backgrounds of a default run in the `lab`: procedural clutter, vertical stripes and a
 /// checkerboard (built in, so a default run needs no file).
-pub const DEFAULT_BACKGROUNDS: [&str; 3] = crate::arena::worlds::LAB_BACKGROUNDS;
+pub const DEFAULT_BACKGROUNDS: [&str; 3] = alvs_sim::worlds::LAB_BACKGROUNDS;
 
 /// The paper's success rates (Sec. III-C) for reference in reports.
 pub const PAPER_SUCCESS_RATE: [(&str, f64); 2] = [("alvs", 0.961), ("lgmd2", 0.937)];

@@ -316,7 +316,7 @@ impl ShortStarts {
     }
 }
 
-/// The short takeoff's state name in [`crate::arena::controller::Command::state`].
+/// The short takeoff's state name in [`alvs_sim::controller::Command::state`].
 const SHORT_TAKEOFF: &str = alvs_tasks::model::fsm::State::ShortTakeoff.name();
 
 /// Appends the trace lines of camera frame `frame` (just simulated), one per robot.

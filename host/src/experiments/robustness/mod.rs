@@ -34,7 +34,7 @@ use alvs_tasks::Params;
 use super::arena::{self, Trial, TrialSetup};
 use super::parallel;
 use super::sweep::{Shard, Sweep};
-use crate::arena::{frames_in, BuiltinWorld, Kind, Pose, SimOptions, World};
+use alvs_sim::{frames_in, BuiltinWorld, Kind, Pose, SimOptions, World};
 
 pub use perturbation::*;
 pub use report::*;
@@ -215,7 +215,7 @@ impl PairedArena {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Trial {
         let seed = self.seeds[s];
-        let (mut motor, gyro, noise) = crate::arena::robot_noise(true);
+        let (mut motor, gyro, noise) = alvs_sim::robot_noise(true);
         let mut options = SimOptions::default();
         perturbation.apply(seed, &mut motor, &mut options);
         arena::run_world_trial(

@@ -3,9 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::arena::{
-    CameraMount, FloorPattern, HeadingSource, LightGradient, MotorParams, SimOptions,
-};
+use alvs_sim::{CameraMount, FloorPattern, HeadingSource, LightGradient, MotorParams, SimOptions};
 
 /// The textured floor: a grain of 5–80 mm, 10 % RMS. A choice, not a measurement: the grain
 /// and speckle of a laminate, lino or plywood floor, whose grey visibly varies by some 10 % over

@@ -7,9 +7,9 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::{Perturbation, RobustTrial, RobustnessConfig, SuiteController, SLOW_SHARE};
-use crate::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 use crate::experiments::arena::{self, draw_bars, Bars, Trial};
 use crate::experiments::Report;
+use alvs_sim::canvas::{colour_cycle, Canvas, Rgb, BLACK, WHITE};
 
 /// One (perturbation, controller) over its seeds.
 #[derive(Debug, Clone, PartialEq, Serialize)]

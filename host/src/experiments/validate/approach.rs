@@ -4,11 +4,11 @@
 //! pressed against one; this probe shows what the simulated network makes of the same
 //! approach without any closed loop (`cargo alvs validate --approaches`).
 
-use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{
+use alvs_sim::lgmd2::{Lgmd2, Lgmd2Params};
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{
     Camera, CameraMount, Pose, RenderOptions, Renderer, SensorNoise, World, FRAME_DT_S,
 };
-use crate::lgmd2::{Lgmd2, Lgmd2Params};
 
 /// Frames the network runs before an alert counts (its layers start from the first frame).
 const WARM_UP_FRAMES: usize = 10;

@@ -17,11 +17,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use crate::arena::World;
 use crate::experiments::{parallel, Report};
 use crate::recordings::{
     self, compare, track_from_trail, ArenaGeometry, PathStats, RunFile, Verdict,
 };
+use alvs_sim::World;
 
 /// The runs the world may be calibrated on: the 10.9 cm/s ones (issue 29).
 pub const CALIBRATION_SPEED_CM_S: f64 = 10.9;
@@ -84,11 +84,11 @@ pub struct ValidateConfig {
     pub jobs: usize,
     /// Which recorded runs to simulate.
     pub runs: RunSet,
-    /// The simulated robot's camera noise ([`crate::arena::SensorNoise::typical`] unless
+    /// The simulated robot's camera noise ([`alvs_sim::SensorNoise::typical`] unless
     /// calibrating its exposure or shake).
-    pub noise: crate::arena::SensorNoise,
+    pub noise: alvs_sim::SensorNoise,
     /// Where the simulated robot's camera sits (level at 20 mm unless calibrating the mount).
-    pub mount: crate::arena::CameraMount,
+    pub mount: alvs_sim::CameraMount,
     /// A diagnostic, not the baseline: a forward proximity sensor of this range (mm from the
     /// body's front) whose alert starts the LGMD2's turn (docs/world.md, "What is left").
     pub proximity_mm: Option<f64>,
@@ -350,7 +350,7 @@ impl Report for ValidateReport {
             };
             let real = recordings::report::run_picture(&r.real_file, arena, &r.real);
             let sim = recordings::report::run_picture(&first.run_file, arena, &first.stats);
-            let pic = crate::canvas::Canvas::side_by_side(&[real, sim]);
+            let pic = alvs_sim::canvas::Canvas::side_by_side(&[real, sim]);
             let path = dir.join(format!("{}.png", r.run));
             pic.save_png(&path)
                 .with_context(|| format!("cannot write {}", path.display()))?;

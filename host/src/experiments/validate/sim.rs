@@ -7,11 +7,11 @@ use std::sync::Arc;
 use alvs_tasks::model::fsm::{FsmParams, Motion};
 use alvs_tasks::Frame;
 
-use crate::arena::controller::{Command, Controller, Lgmd2Controller};
-use crate::lgmd2::Lgmd2Params;
+use alvs_sim::controller::{Command, Controller, Lgmd2Controller};
+use alvs_sim::lgmd2::Lgmd2Params;
 
-use crate::arena::world::ROBOT_RADIUS_MM;
-use crate::arena::{
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{
     CameraMount, Kind, Pose, RenderOptions, Rng, SensorNoise, Sim, SimOptions, World, FRAME_DT_S,
 };
 
@@ -66,7 +66,7 @@ pub fn simulate(
         },
         ..FsmParams::PAPER
     };
-    let (motor, gyro, _) = crate::arena::robot_noise(true);
+    let (motor, gyro, _) = alvs_sim::robot_noise(true);
     let options = SimOptions {
         render: RenderOptions {
             mount,

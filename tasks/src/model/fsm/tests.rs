@@ -1,5 +1,5 @@
 //! The escape FSM's unit tests: presets, the wheels' mixing, the heading controller and the
-//! states' transitions (`tests/fsm_table` holds the table-driven ones).
+//! states' transitions (`tasks/tests/fsm_table` holds the table-driven ones).
 
 use super::*;
 

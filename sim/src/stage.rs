@@ -15,8 +15,8 @@
 
 use anyhow::{ensure, Result};
 
-use crate::arena::world::{wrap_deg, ROBOT_RADIUS_MM};
-use crate::arena::{BuiltinWorld, Pose, World};
+use crate::world::{wrap_deg, ROBOT_RADIUS_MM};
+use crate::{BuiltinWorld, Pose, World};
 
 /// Least gap a placed stage leaves between every swept body and every wall or obstacle, mm: a
 /// pass this close is clearly not a contact (the contacts' episodes have 10 mm hysteresis
@@ -299,7 +299,7 @@ impl Placement {
     }
 
     /// The placement in `world` with its walls showing `background` (its own without one,
-    /// [`super::world_with`]), checked: an unreadable background or a stage that does not fit
+    /// [`crate::worlds::world_with`]), checked: an unreadable background or a stage that does not fit
     /// ([`Placement::check`]) is an error of one line naming `what`.
     pub fn staged(
         self,
@@ -308,7 +308,7 @@ impl Placement {
         what: &str,
     ) -> Result<Staged> {
         self.check(what, world.label())?;
-        let (background, world) = super::world_with(world, background)?;
+        let (background, world) = crate::worlds::world_with(world, background)?;
         Ok(Staged {
             background,
             world,
@@ -332,7 +332,7 @@ impl Placement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arena::{Arena, Obstacle};
+    use crate::{Arena, Obstacle};
 
     fn open(x: f64, y: f64) -> World {
         World {

@@ -31,12 +31,20 @@
 use alvs_tasks::Params;
 
 use super::stage::{Shape, Stage};
-use crate::arena::controller::{Approach, Controller, HoldUntilAlert};
-use crate::arena::{
+use crate::controller::{Approach, Controller, HoldUntilAlert};
+use crate::{
     Command, ContactEvent, EventKind, GyroParams, Kind, MotorParams, Other, Pose, Rng, Seen,
     SensorNoise, Sim, World, FRAME_DT_S,
 };
 
+/// Start distance of `cargo alvs evasion`'s obstacle (and the virtual board's closed-loop
+/// evasion), mm (centre to centre): about 12 robot diameters, so the
+/// obstacle first appears about 7 pixels wide and looms for several seconds.
+pub const DEFAULT_DISTANCE_MM: f64 = 500.0;
+/// Speed of `cargo alvs evasion`'s obstacle, mm/s: the paper's robots move at about 10 cm/s. (Slower or faster
+/// obstacles do not change the outcome much: the model alerts when the obstacle is 100–150 mm
+/// away whatever its speed; see docs/experiments.md.)
+pub const DEFAULT_SPEED_MM_S: f64 = 100.0;
 /// Where the tested robot starts (x mm, y mm, heading °) as designed, in the `lab` arena.
 pub const TESTED_START: (f64, f64, f64) = (450.0, 450.0, 0.0);
 /// Floor the tested robot keeps free behind it to escape into, mm, within ±35° of straight
@@ -140,7 +148,7 @@ pub struct Encounter {
     pub noise: bool,
     /// The tested robot's camera exposure as a fraction of the 33 ms frame period (0 =
     /// instantaneous snapshots, the default; 1 = the whole period): motion during the exposure
-    /// blurs the picture ([`crate::arena::SensorNoise::exposure`]).
+    /// blurs the picture ([`crate::SensorNoise::exposure`]).
     pub exposure: f32,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
@@ -177,7 +185,7 @@ impl Encounter {
 #[derive(Debug, Clone)]
 pub struct Setting {
     /// The world.
-    pub world: crate::arena::BuiltinWorld,
+    pub world: crate::BuiltinWorld,
     /// The background given, if any.
     pub background: Option<String>,
     /// The seed.
@@ -351,7 +359,7 @@ impl Turned {
 
     /// The next frame's heading.
     pub fn observe(&mut self, heading_deg: f64) {
-        self.total_deg += crate::arena::world::wrap_deg(heading_deg - self.last_deg);
+        self.total_deg += crate::world::wrap_deg(heading_deg - self.last_deg);
         self.last_deg = heading_deg;
     }
 }
@@ -467,7 +475,7 @@ pub fn run_with(
     progress: &(dyn Fn(u64) + Sync),
 ) -> EncounterResult {
     let mut sim = Sim::new(&e.world, e.seed);
-    let (motor, gyro, mut noise) = crate::arena::robot_noise(e.noise);
+    let (motor, gyro, mut noise) = crate::robot_noise(e.noise);
     noise.exposure = e.exposure;
     let start = e.start;
     let tested = HoldUntilAlert::new(controller);

@@ -1,8 +1,8 @@
 //! Efference copy of turns (`Params::derotate`, `alvs_tasks::model::derotate`) on the arena's
 //! rendered camera: a robot turning in place on a still scene.
 
-use alvs_host::arena::render::Renderer;
-use alvs_host::arena::world::{Pose, WallTexture, World};
+use alvs_sim::render::Renderer;
+use alvs_sim::world::{Pose, WallTexture, World};
 use alvs_tasks::model::params::{Efference, Mechanisms, ShortGates};
 use alvs_tasks::{Network, Params};
 use core::num::NonZeroU8;

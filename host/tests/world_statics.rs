@@ -4,10 +4,10 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test world_statics`.
 
-use alvs_host::arena::kinematics::{PHYSICS_DT_S, TRACK_MM};
-use alvs_host::arena::render::{column_of_bearing, row_of_height, CAMERA_FORWARD_MM, SKY_GREY};
-use alvs_host::arena::world::ROBOT_RADIUS_MM;
-use alvs_host::arena::{
+use alvs_sim::kinematics::{PHYSICS_DT_S, TRACK_MM};
+use alvs_sim::render::{column_of_bearing, row_of_height, CAMERA_FORWARD_MM, SKY_GREY};
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{
     replica, Arena, GyroParams, MotorParams, Obstacle, Physics, Pose, Renderer, Room,
     SurfaceContact, WallTexture, World,
 };
@@ -189,7 +189,7 @@ fn an_obstacle_is_drawn_where_and_as_high_as_it_stands() {
     let plain = |obstacles| World {
         texture: WallTexture::Plain(200),
         obstacles,
-        obstacle_pattern: alvs_host::arena::RobotPattern::Band {
+        obstacle_pattern: alvs_sim::RobotPattern::Band {
             body: 10,
             band: 10,
             bottom_mm: 0.0,
@@ -272,7 +272,7 @@ fn ribs_parse_and_alternate() {
         dark: 100,
         light: 200,
     });
-    let tex = alvs_host::arena::texture::WallMap::new(&w).unrolled();
+    let tex = alvs_sim::texture::WallMap::new(&w).unrolled();
     let row = &tex.pixels[tex.width * 10..tex.width * 10 + 16];
     // 1 mm texels: a groove at u = 0 and 8, a rib at u = 4 and 12.
     assert!(row[0] < 110 && row[8] < 110, "{row:?}");
@@ -335,7 +335,7 @@ fn the_replica_is_a_drivable_arena() {
 /// picture of the same pose is the steady one.
 #[test]
 fn a_moving_camera_shakes_and_a_standing_one_does_not() {
-    use alvs_host::arena::{Camera, SensorNoise};
+    use alvs_sim::{Camera, SensorNoise};
     let w = World::default();
     let r = Renderer::new(&w);
     let (from, to) = (

@@ -4,8 +4,8 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test swarm_look`.
 
-use alvs_host::arena::render::CAMERA_FORWARD_MM;
-use alvs_host::arena::{Camera, Pose, Renderer, SensorNoise, WallTexture, World};
+use alvs_sim::render::CAMERA_FORWARD_MM;
+use alvs_sim::{Camera, Pose, Renderer, SensorNoise, WallTexture, World};
 use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::Params;
 
@@ -65,7 +65,7 @@ fn a_spinning_robot_is_a_mover_at_its_bearing() {
 fn a_driving_robot_is_a_mover_on_the_photographs_walls_too() {
     let photo = WallTexture::from_spec(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../tests/data/photos/outdoor_1.jpg"
+        "/../data/photos/outdoor_1.jpg"
     ))
     .expect("the photograph");
     for world in [World::default(), World::with_texture(photo)] {

@@ -1,4 +1,4 @@
-//! Both parameter sets on the looming clips of `tests/data/clips`, with a per-clip table.
+//! Both parameter sets on the looming clips of `data/clips`, with a per-clip table.
 
 use super::*;
 
@@ -53,7 +53,7 @@ impl ClipRun {
 
 fn run_clips(params: &Lgmd2Params) -> Vec<ClipRun> {
     data::manifest()
-        .expect("tests/data/clips/manifest.csv")
+        .expect("data/clips/manifest.csv")
         .into_iter()
         .map(|c| {
             let frames = clip::load(&data::clip_path(&c.name), 99, 72).expect("clip");

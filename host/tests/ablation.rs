@@ -3,7 +3,6 @@
 //! seed, evasion and two threats as their commands run them, the clips as `replay` runs them —
 //! and a split run merges into the whole one.
 
-use alvs_host::arena::Kind;
 use alvs_host::experiments::ablation::{
     AblationConfig, AblationReport, Measured, Part, Variant, MECHANISMS,
 };
@@ -12,6 +11,7 @@ use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteCo
 use alvs_host::experiments::sweep::{self, Shard, Sweep};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
+use alvs_sim::Kind;
 use alvs_tasks::model::fsm::{Escape, FsmParams};
 use alvs_tasks::Params;
 

@@ -1,4 +1,4 @@
-//! The looming clips of `tests/data/clips` against their `manifest.csv`: alert on every looming
+//! The looming clips of `data/clips` against their `manifest.csv`: alert on every looming
 //! clip, during expansion; none on receding, translating or grating; threat side
 //! right/left/left/right on the four-quadrant clips; several attention fields on the multi clips.
 //! Prints a table.
@@ -19,7 +19,7 @@ struct Run {
 
 fn run_all() -> Vec<Run> {
     let mut runs = Vec::new();
-    for c in data::manifest().expect("tests/data/clips/manifest.csv") {
+    for c in data::manifest().expect("data/clips/manifest.csv") {
         let frames = clip::load(&data::clip_path(&c.name), 99, 72).expect("clip");
         assert_eq!(frames.len(), c.frames, "{}: frame count", c.name);
         let mut pipe =

@@ -3,15 +3,15 @@
 //! it was before the worlds existed, the replica changes what the robots see and do, and the
 //! arena's trial in the replica is the robustness suite's reference trial.
 
-use alvs_host::arena::world::ROBOT_RADIUS_MM;
-use alvs_host::arena::{BuiltinWorld, Kind, Pose, World};
-use alvs_host::experiments::encounter::{self, Threat, ESCAPE_ROOM_MM};
 use alvs_host::experiments::evasion::{EvasionConfig, DEFAULT_DISTANCE_MM};
-use alvs_host::experiments::stage::MIN_CLEARANCE_MM;
 use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::{arena, robustness, Report};
+use alvs_sim::encounter::{self, Threat, ESCAPE_ROOM_MM};
+use alvs_sim::stage::MIN_CLEARANCE_MM;
+use alvs_sim::world::ROBOT_RADIUS_MM;
+use alvs_sim::{BuiltinWorld, Kind, Pose, World};
 use serde_json::Value;
 
 mod common;

@@ -1,9 +1,9 @@
-//! The LGMD2 baseline (`alvs_host::lgmd2`): hand-computed checks of each layer on tiny inputs,
+//! The LGMD2 baseline (`alvs_sim::lgmd2`): hand-computed checks of each layer on tiny inputs,
 //! whole-network properties (priming, rest, determinism, reset, extreme input), and the
-//! looming clips of `tests/data/clips` with a per-clip table for both parameter sets.
+//! looming clips of `data/clips` with a per-clip table for both parameter sets.
 
-use alvs_host::lgmd2::*;
 use alvs_host::{clip, data};
+use alvs_sim::lgmd2::*;
 use alvs_tasks::{Frame, PIXELS, WIDTH};
 use std::io::Write;
 

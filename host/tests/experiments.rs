@@ -3,13 +3,13 @@
 //! whatever the number of threads, the documented JSON, and a command line that helps and
 //! fails cleanly. (Experiment 4, `arena`, is `arena_experiment.rs`.)
 
-use alvs_host::arena::{BuiltinWorld, Kind};
-use alvs_host::experiments::encounter::Side;
 use alvs_host::experiments::evasion::{self, EvasionConfig};
 use alvs_host::experiments::stimuli::{self, StimuliConfig};
 use alvs_host::experiments::swarm::{self, SwarmConfig};
 use alvs_host::experiments::two_threats::{self, TwoThreatConfig};
 use alvs_host::experiments::Report;
+use alvs_sim::encounter::Side;
+use alvs_sim::{BuiltinWorld, Kind};
 use alvs_tasks::model::fsm::{Escape, FsmParams, State, Swarm};
 use alvs_tasks::Params;
 use core::num::NonZeroU32;

@@ -8,8 +8,8 @@ use alvs_tasks::model::param_table::off0;
 use alvs_tasks::model::visuomotor::wrap_deg;
 use alvs_tasks::{Frame, Network, Params};
 
-use crate::arena::rng::Rng;
 use crate::lgmd2::{Lgmd2, Lgmd2Params};
+use crate::rng::Rng;
 
 /// What a controller's perception reported for one frame (for traces; zero for the blind).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -5,8 +5,8 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test validate`.
 
-use alvs_host::arena::{replica, CameraMount, SensorNoise, SurfaceContact, World};
 use alvs_host::experiments::validate::sim::simulate;
+use alvs_sim::{replica, CameraMount, SensorNoise, SurfaceContact, World};
 
 fn replica_with_slip(slip_yaw: f64) -> World {
     let w = replica::world();

@@ -4,7 +4,7 @@
 //!
 //! `cargo test --target host-tuple -p alvs-host --test robustness`.
 
-use alvs_host::arena::*;
+use alvs_sim::*;
 use alvs_tasks::model::fsm::FsmParams;
 use alvs_tasks::Params;
 
@@ -132,7 +132,7 @@ fn defaults_are_bit_identical_to_before_the_perturbations() {
 // ---------------------------------------------------------------------------------------------
 // The camera's mount, the floor and the light.
 
-use alvs_host::arena::render::{CAMERA_FORWARD_MM, FOCAL_PX, SKY_GREY};
+use alvs_sim::render::{CAMERA_FORWARD_MM, FOCAL_PX, SKY_GREY};
 use alvs_tasks::{Frame, HEIGHT, WIDTH};
 
 /// Grey of the plain walls and of the plain floor in the picture tests.
@@ -321,8 +321,8 @@ fn the_lighting_gradient_scales_walls_and_floor_by_their_place() {
 // ---------------------------------------------------------------------------------------------
 // The motors, the heading and the frames.
 
-use alvs_host::arena::controller::{Command, Controller, Scripted};
-use alvs_host::arena::kinematics::FRAME_DT_S;
+use alvs_sim::controller::{Command, Controller, Scripted};
+use alvs_sim::kinematics::FRAME_DT_S;
 use std::sync::{Arc, Mutex};
 
 /// An arena large enough to drive in circles without meeting a wall.

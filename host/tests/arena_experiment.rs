@@ -4,13 +4,13 @@
 
 use std::sync::OnceLock;
 
-use alvs_host::arena::contacts::{ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM};
-use alvs_host::arena::{BuiltinWorld, Kind, World};
 use alvs_host::experiments::arena::{
     run, start_poses, trace_header, ArenaConfig, ArenaReport, TallyStats, START_SEPARATION_MM,
     START_WALL_CLEARANCE_MM,
 };
 use alvs_host::experiments::Report;
+use alvs_sim::contacts::{ROBOT_ENCOUNTER_DISTANCE_MM, WALL_ENCOUNTER_DISTANCE_MM};
+use alvs_sim::{BuiltinWorld, Kind, World};
 use serde_json::Value;
 
 mod common;
@@ -302,7 +302,7 @@ fn trace_follows_every_robot_frame_by_frame() {
 fn trace_quotes_a_background_path_and_leaves_a_lone_robot_without_neighbour() {
     let d = tmp("quoted");
     let wall = d.join("wall, \"grey\".png");
-    alvs_host::canvas::Canvas::new(64, 32, [128, 128, 128])
+    alvs_sim::canvas::Canvas::new(64, 32, [128, 128, 128])
         .save_png(&wall)
         .unwrap();
     let c = ArenaConfig {

@@ -7,19 +7,19 @@
 //! are tools: `example_pictures` writes frames and a top-down view to `/tmp/arena_*.png`, and
 //! `bench_render` prints the renderer's speed (run it with `--release -- --ignored --nocapture`).
 
-use alvs_host::arena::contacts::{
+use alvs_sim::canvas::{colour_cycle, Canvas, RED};
+use alvs_sim::contacts::{
     ROBOT_COLLISION_DISTANCE_MM, ROBOT_ENCOUNTER_DISTANCE_MM, WALL_COLLISION_DISTANCE_MM,
 };
-use alvs_host::arena::kinematics::{FRAME_DT_S, PHYSICS_DT_S};
-use alvs_host::arena::render::{
+use alvs_sim::kinematics::{FRAME_DT_S, PHYSICS_DT_S};
+use alvs_sim::render::{
     column_of_bearing, frame_canvas, row_of_height, CAMERA_FORWARD_MM, SKY_GREY,
 };
-use alvs_host::arena::world::{ROBOT_DIAMETER_MM, ROBOT_RADIUS_MM};
-use alvs_host::arena::{
+use alvs_sim::world::{ROBOT_DIAMETER_MM, ROBOT_RADIUS_MM};
+use alvs_sim::{
     Arena, Camera, GyroParams, MotorParams, Physics, Pose, Renderer, RobotPattern, SensorNoise,
     TopDown, WallTexture, World,
 };
-use alvs_host::canvas::{colour_cycle, Canvas, RED};
 use alvs_tasks::model::fsm::HeadingEstimator;
 use alvs_tasks::{Frame, HEIGHT, WIDTH};
 
@@ -141,7 +141,7 @@ fn apparent_size_falls_as_one_over_distance() {
         products.push(width * d);
     }
     // Pinhole: width = 2 f tan(asin(R/d)) ≈ 2 f R / d.
-    let ideal = 2.0 * alvs_host::arena::render::FOCAL_PX * ROBOT_RADIUS_MM;
+    let ideal = 2.0 * alvs_sim::render::FOCAL_PX * ROBOT_RADIUS_MM;
     for p in &products {
         assert!(
             (p / ideal - 1.0).abs() < 0.06,
@@ -409,7 +409,7 @@ fn head_on_robots_count_one_encounter_and_one_collision() {
         .contacts()
         .events()
         .iter()
-        .find(|e| e.kind == alvs_host::arena::EventKind::Collision);
+        .find(|e| e.kind == alvs_sim::EventKind::Collision);
     let t = first.expect("a collision event").time_s;
     let want = (400.0 - ROBOT_COLLISION_DISTANCE_MM) / 200.0;
     assert!((t - want).abs() < 0.01, "collision at {t} s, want {want}");
@@ -462,7 +462,7 @@ fn a_robot_driving_into_a_wall_collides_once_and_is_stopped() {
         let ev = p.contacts().events();
         let col = ev
             .iter()
-            .find(|e| e.kind == alvs_host::arena::EventKind::Collision)
+            .find(|e| e.kind == alvs_sim::EventKind::Collision)
             .unwrap();
         let want = (Arena::default().size_x_mm - WALL_COLLISION_DISTANCE_MM - 600.0) / speed;
         assert!((col.time_s - want).abs() < 0.01, "{} vs {want}", col.time_s);
@@ -612,7 +612,7 @@ fn example_pictures() {
         td.trail(t, colour_cycle(i));
     }
     for e in p.contacts().events() {
-        if e.kind == alvs_host::arena::EventKind::Collision {
+        if e.kind == alvs_sim::EventKind::Collision {
             td.mark(e.x_mm, e.y_mm, RED);
         }
     }

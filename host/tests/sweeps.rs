@@ -4,13 +4,13 @@
 
 use std::path::{Path, PathBuf};
 
-use alvs_host::arena::Kind;
 use alvs_host::experiments::arena::ArenaConfig;
 use alvs_host::experiments::stimuli::StimuliConfig;
 use alvs_host::experiments::swarm::SwarmConfig;
 use alvs_host::experiments::sweep::{self, Shard, Sweep};
 use alvs_host::experiments::two_threats::TwoThreatConfig;
 use alvs_host::experiments::Report;
+use alvs_sim::Kind;
 use serde_json::Value;
 
 mod common;

@@ -2,8 +2,8 @@
 //! obvious behaviours (a scripted robot drives straight, a stationary observer alerts on a robot
 //! driving at it, ALVS turns away from a robot approaching from one side).
 
-use alvs_host::arena::controller::{Scripted, Stationary};
-use alvs_host::arena::*;
+use alvs_sim::controller::{Scripted, Stationary};
+use alvs_sim::*;
 use alvs_tasks::model::fsm::FsmParams;
 use alvs_tasks::Params;
 

@@ -4,12 +4,12 @@ use super::*;
 
 /// One camera frame of an `Lgmd2Controller` whose wheel commands turn `pose` (ideal motors).
 fn drive(
-    c: &mut alvs_host::arena::controller::Lgmd2Controller,
-    pose: &mut alvs_host::arena::Pose,
+    c: &mut alvs_sim::controller::Lgmd2Controller,
+    pose: &mut alvs_sim::Pose,
     frame: &Frame,
-) -> alvs_host::arena::Command {
-    use alvs_host::arena::controller::Controller;
-    use alvs_host::arena::kinematics::{advance, body_rates, FRAME_DT_S};
+) -> alvs_sim::Command {
+    use alvs_sim::controller::Controller;
+    use alvs_sim::kinematics::{advance, body_rates, FRAME_DT_S};
     let cmd = c.step(frame, pose.heading_deg as f32);
     let track = f64::from(alvs_tasks::model::fsm::FsmParams::default().motion.track_mm);
     let (v, w) = body_rates(f64::from(cmd.left_mm_s), f64::from(cmd.right_mm_s), track);
@@ -24,9 +24,8 @@ fn lgmd2_robot_turns_then_goes_straight_on_with_its_perception_live() {
     // every frame
     let p = alvs_tasks::model::fsm::FsmParams::default();
     for seed in 1..=4 {
-        let mut c =
-            alvs_host::arena::controller::Lgmd2Controller::new(Lgmd2Params::colias(), p, seed);
-        let mut pose = alvs_host::arena::Pose::new(600.0, 450.0, 0.0);
+        let mut c = alvs_sim::controller::Lgmd2Controller::new(Lgmd2Params::colias(), p, seed);
+        let mut pose = alvs_sim::Pose::new(600.0, 450.0, 0.0);
         let still = [128u8; PIXELS];
         // a looming square alerts: the random turn begins
         let mut t = 0;

@@ -1,13 +1,16 @@
-//! The software-in-the-loop arena: simulated Colias robots whose cameras see a rendered arena,
-//! so that the firmware's own task code (`alvs_tasks`) can drive them in closed loop.
+//! The simulated Colias world, shared by the host tools (`alvs-host`: the experiments) and the
+//! virtual board (`alvs-cycles`: the firmware in closed loop): simulated Colias robots whose
+//! cameras see a rendered arena, so that the firmware's own task code (`alvs_tasks`) can drive
+//! them in closed loop. Everything here is a pure function of its seed.
 //!
 //! | concern | module |
 //! |---|---|
 //! | arena, walls, textures, robot bodies, poses and the frame convention | [`world`] |
-//! | wall textures as mip-mapped look-up tables | [`texture`] |
+//! | wall textures as mip-mapped look-up tables; `--background` specifications | [`texture`] |
 //! | each robot's front camera (99x72, 70°, pinhole), its mount, noise | [`render`] |
 //! | a pattern fixed to the floor (textured and shaded floors) | [`floor_pattern`] |
 //! | uneven light across the arena | [`lighting`] |
+//! | the replica of the recorded arena of Fu et al. 2019 | [`replica`] |
 //! | top-down pictures for trajectory plots | [`topdown`] |
 //! | differential drive, motor lag and noise, time steps | [`kinematics`] |
 //! | simulated gyro behind `HeadingEstimator` | [`gyro`] |
@@ -15,24 +18,32 @@
 //! | all robots stepped together | [`physics`] |
 //! | seeded random numbers | [`rng`] |
 //! | the controllers (ALVS, swarm, LGMD2, scripted) behind one trait | [`controller`] |
+//! | the LGMD2 baseline, one module per layer (docs/lgmd2.md) | [`lgmd2`] |
 //! | the closed loop: render, control, physics per camera frame | [`sim`] |
 //! | the built-in worlds a command names (`--world`) | [`worlds`] |
+//! | where a staged experiment stands in a world | [`stage`] |
+//! | the open-loop encounter of experiments 2 and 3 (obstacles driving at a robot) | [`encounter`] |
+//! | pictures: a canvas, charts and labels | [`canvas`] |
 //!
 //! A closed-loop frame of robot `i` is: `Camera::capture` its frame from `Physics::poses`, run
 //! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
 //! `Physics::command(i, &cmd)`; once every robot has its command, `Physics::step_frame`.
 
+pub mod canvas;
 pub mod contacts;
 pub mod controller;
+pub mod encounter;
 pub mod floor_pattern;
 pub mod gyro;
 pub mod kinematics;
+pub mod lgmd2;
 pub mod lighting;
 pub mod physics;
 pub mod render;
 pub mod replica;
 pub mod rng;
 pub mod sim;
+pub mod stage;
 pub mod texture;
 pub mod topdown;
 pub mod world;

@@ -76,6 +76,20 @@ impl BuiltinWorld {
     }
 }
 
+/// The world a one-background experiment runs in: `world` with its walls showing `background`
+/// (a `--background` specification), or its own walls without one
+/// ([`BuiltinWorld::default_background`]); and the specification used.
+pub fn world_with(
+    world: BuiltinWorld,
+    background: Option<&str>,
+) -> anyhow::Result<(String, World)> {
+    let spec = world.background(background);
+    Ok((
+        spec.to_string(),
+        world.with_walls(crate::texture::parse(spec)?),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -298,7 +298,7 @@ fn supersample(cols: usize, rows: usize, f: impl Fn(f64, f64) -> f64, data: &mut
 /// 55 % and 80 % of the wall height, a bright sky above it (grey 175–200, brightest at the
 /// top), and dark vertical trunks and poles (6–30 mm wide, about one per 150 mm of wall)
 /// reaching from the ground into the sky. Matched to the three outdoor photographs of
-/// `tests/data/photos` (sky above ground, means 113–146, RMS contrast 0.28–0.51, horizontal
+/// `data/photos` (sky above ground, means 113–146, RMS contrast 0.28–0.51, horizontal
 /// amplitude spectra falling as f^−0.8 to f^−1.15). Wraps in `u`.
 fn outdoor(seed: u64, cols: usize, rows: usize, texel: f64, data: &mut [u8]) {
     clutter(seed, cols, rows, texel, data);
@@ -498,10 +498,36 @@ fn downsample(l: &Level) -> Level {
     }
 }
 
+/// Reads a `--background` specification (`plain[:GREY]`, `stripes[:PERIOD_MM]`,
+/// `checker[:SIZE_MM]`, `clutter[:SEED]`, `outdoor[:SEED]` or a PNG/JPEG path); the error is
+/// one line.
+pub fn parse(spec: &str) -> anyhow::Result<WallTexture> {
+    use anyhow::Context;
+    let name = spec.split_once(':').map_or(spec, |(n, _)| n);
+    let known = WallTexture::NAMES.contains(&name);
+    if !known && !std::path::Path::new(spec).exists() {
+        anyhow::bail!(
+            "--background {spec}: neither plain[:GREY], stripes[:PERIOD_MM], checker[:SIZE_MM], \
+             clutter[:SEED], outdoor[:SEED], ribs[:PERIOD_MM[:DARK:LIGHT]] nor an existing \
+             PNG/JPEG file"
+        );
+    }
+    WallTexture::from_spec(spec).with_context(|| format!("--background {spec}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arena::world::Arena;
+    use crate::world::Arena;
+
+    #[test]
+    fn an_unknown_background_is_one_line_naming_every_form() {
+        let err = parse("nonsense:3").unwrap_err().to_string();
+        assert_eq!(err.lines().count(), 1, "{err}");
+        for name in WallTexture::NAMES {
+            assert!(err.contains(&format!("{name}[:")), "{name}: {err}");
+        }
+    }
 
     fn world(texture: WallTexture) -> World {
         World {

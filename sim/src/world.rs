@@ -235,7 +235,7 @@ pub enum WallTexture {
     /// A procedural outdoor scene with the statistics of natural photographs (the paper's
     /// arena showed two outdoor scenes): bright sky in the upper part, darker ground below,
     /// and 1/f ("pink") grey-level noise of RMS contrast ≈ 0.4 everywhere else, matched to the
-    /// three outdoor photographs in `tests/data/photos` (see `texture`).
+    /// three outdoor photographs in `data/photos` (see `texture`).
     Outdoor {
         /// Seed of the scene.
         seed: u64,

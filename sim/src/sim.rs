@@ -12,14 +12,14 @@ use std::collections::BTreeMap;
 use alvs_tasks::model::fsm::{HeadingEstimator, Odometry};
 use alvs_tasks::{Frame, PIXELS};
 
-use crate::arena::controller::{Command, Controller};
-use crate::arena::gyro::GyroParams;
-use crate::arena::kinematics::MotorParams;
-use crate::arena::kinematics::FRAME_DT_S;
-use crate::arena::physics::Physics;
-use crate::arena::render::{Camera, RenderOptions, Renderer, SensorNoise};
-use crate::arena::rng::Rng;
-use crate::arena::world::{Pose, World};
+use crate::controller::{Command, Controller};
+use crate::gyro::GyroParams;
+use crate::kinematics::MotorParams;
+use crate::kinematics::FRAME_DT_S;
+use crate::physics::Physics;
+use crate::render::{Camera, RenderOptions, Renderer, SensorNoise};
+use crate::rng::Rng;
+use crate::world::{Pose, World};
 
 /// Camera frames between two trail samples (5 per second).
 pub const TRAIL_EVERY: u64 = 6;
