@@ -1,6 +1,8 @@
 //! The escape FSM's unit tests: presets, the wheels' mixing, the heading controller and the
 //! states' transitions (`tasks/tests/fsm_table` holds the table-driven ones).
 
+use core::num::NonZeroU32;
+
 use super::*;
 
 fn close(a: f32, b: f32, tol: f32) -> bool {
