@@ -7,33 +7,39 @@
 //! until the next event (or until an interrupt may preempt), the event is applied, and so on.
 //! Before `freeze` the real core runs at 16 MHz: the boot's first instructions are counted
 //! here as if at 180 MHz (a few hundred µs sooner than on the board).
+//!
+//! This file holds the board itself: its construction, power-on, resets and the run loop that
+//! applies the events. Exception entry and return and the faults are in `board/exceptions.rs`,
+//! the memory map and the peripherals' bus access in `board/memory_map.rs`, unicorn's hooks in
+//! `board/hooks.rs`.
 
 use std::collections::HashMap;
 use std::ops::Range;
 
-use unicorn_engine::{HookType, MemType, Prot, RegisterARM, Unicorn};
+use unicorn_engine::{RegisterARM, Unicorn};
 
-use super::bus::{Peripherals, DCMI_CHANNEL, DCMI_STREAM, PERIPH, PERIPH_BB, SCS_PAGE};
-use super::dcmi::{self, CameraTiming, DCMI_BASE};
+use super::bus::{Peripherals, DCMI_CHANNEL, DCMI_STREAM, PERIPH};
+use super::dcmi::{self, CameraTiming};
 use super::dma::Transfer;
 use super::events::{Event, Queue};
-use super::nvic::{self, HARD_FAULT};
+use super::nvic;
 use super::rcc;
 use super::rtt::{self, Rtt};
-use super::uart::UART4_BASE;
 use crate::decode::{Decoded, Decoder};
 use crate::elf::{self, Symbol};
-use crate::emu::{self, cortex_m4, decode_at, emu, load, RegisterPage};
-use crate::error::{Access, Error};
-use crate::memory::{CCM, DWT_CYCCNT, DWT_PAGE, FLASH, SRAM};
+use crate::emu::{self, cortex_m4, emu, load, RegisterPage};
+use crate::error::Error;
+use crate::memory::{CCM, FLASH, SRAM};
 use crate::timing::{FlashModel, Timing};
 
-/// Cortex-M4 exception entry and return latency, and a tail-chain (ARM DDI 0439B 3.3.1).
-const ENTRY_CYCLES: u64 = 12;
-const RETURN_CYCLES: u64 = 12;
-const TAIL_CHAIN_CYCLES: u64 = 6;
-/// Exception return values live at the top of the address space (ARMv7-M ARM B1.5.8).
-const EXC_RETURN_PAGE: u32 = 0xFFFF_F000;
+mod exceptions;
+mod hooks;
+mod memory_map;
+
+use exceptions::{Fault, EXC_RETURN_PAGE};
+use hooks::add_hooks;
+use memory_map::map_memory;
+
 /// The pattern the stack is painted with at power-on.
 const STACK_PAINT: u32 = 0xDEAD_BEEF;
 
@@ -79,14 +85,6 @@ enum Kind {
     Sleep,
     /// MSR/CPS: BASEPRI, PRIMASK or FAULTMASK may change.
     Mask,
-}
-
-/// A fault seen by a hook.
-#[derive(Clone, Copy, Debug)]
-enum Fault {
-    Memory { access: Access, addr: u32, pc: u32 },
-    Undefined { pc: u32 },
-    Other { number: u32, pc: u32 },
 }
 
 /// What the board recorded, for reports and tests.
@@ -432,16 +430,6 @@ impl Board {
         emu::read_u32(&self.uc, addr)
     }
 
-    fn write_words(&mut self, addr: u32, words: &[u32]) -> Result<(), Error> {
-        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-        self.uc
-            .mem_write(addr.into(), &bytes)
-            .map_err(|_| Error::Lockup {
-                pc: 0,
-                reason: format!("exception stack frame cannot be written at {addr:#010x}"),
-            })
-    }
-
     /// Adds the cycles since the last accounting to the running exception.
     fn account(&mut self) {
         let st = self.uc.get_data_mut();
@@ -626,202 +614,6 @@ impl Board {
         }
         Ok(())
     }
-
-    fn preempting(&self) -> Result<Option<u16>, Error> {
-        let basepri = self.reg(RegisterARM::BASEPRI)? as u8;
-        let primask = self.reg(RegisterARM::PRIMASK)? & 1 != 0;
-        let faultmask = self.reg(RegisterARM::FAULTMASK)? & 1 != 0;
-        Ok(self
-            .uc
-            .get_data()
-            .p
-            .nvic
-            .preempting(basepri, primask, faultmask))
-    }
-
-    /// Exception entry (B1.5.6): stacks the context (with the FP registers when CONTROL.FPCA
-    /// says the context uses them), then runs the handler. `return_to`: the address to resume
-    /// (the faulting instruction for a fault; else the current PC).
-    fn enter(&mut self, exc: u16, return_to: Option<u32>) -> Result<(), Error> {
-        self.account();
-        let pc = match return_to {
-            Some(pc) => pc,
-            None => self.pc()?,
-        };
-        let control = self.reg(RegisterARM::CONTROL)?;
-        if control & 2 != 0 {
-            return Err(Error::Lockup {
-                pc,
-                reason: "Thread mode on the process stack is not modelled".into(),
-            });
-        }
-        let fp = control & 4 != 0;
-        let sp = self.reg(RegisterARM::SP)?;
-        let size = if fp { 0x68 } else { 0x20 };
-        let align = (sp >> 2) & 1;
-        let frame = sp.wrapping_sub(size) & !(align << 2);
-        let xpsr = (self.reg(RegisterARM::XPSR)? & !0x200) | align << 9 | 1 << 24;
-        let mut words = vec![
-            self.reg(RegisterARM::R0)?,
-            self.reg(RegisterARM::R1)?,
-            self.reg(RegisterARM::R2)?,
-            self.reg(RegisterARM::R3)?,
-            self.reg(RegisterARM::R12)?,
-            self.reg(RegisterARM::LR)?,
-            pc,
-            xpsr,
-        ];
-        if fp {
-            for i in 0..16 {
-                words.push(self.reg(s_reg(i))?);
-            }
-            words.push(self.reg(RegisterARM::FPSCR)?);
-            words.push(0);
-        }
-        let ccm_or_sram = |a: u32| CCM.contains(&a) || SRAM.contains(&a);
-        if !ccm_or_sram(frame) || !ccm_or_sram(sp.wrapping_sub(1)) {
-            return Err(Error::Lockup {
-                pc,
-                reason: format!(
-                    "exception {exc} cannot stack its frame: SP {sp:#010x} (stack overflow)"
-                ),
-            });
-        }
-        self.write_words(frame, &words)?;
-        let thread = self.uc.get_data().p.nvic.current() == 0;
-        let exc_return = match (fp, thread) {
-            (false, false) => 0xFFFF_FFF1,
-            (false, true) => 0xFFFF_FFF9,
-            (true, false) => 0xFFFF_FFE1,
-            (true, true) => 0xFFFF_FFE9,
-        };
-        self.set(RegisterARM::SP, frame)?;
-        self.set(RegisterARM::LR, exc_return)?;
-        self.set(RegisterARM::CONTROL, control & !4)?;
-        self.handler(exc)?;
-        self.uc.get_data_mut().extra += ENTRY_CYCLES;
-        Ok(())
-    }
-
-    /// Makes `exc` active and jumps to its handler.
-    fn handler(&mut self, exc: u16) -> Result<(), Error> {
-        let vector = self.read_u32(self.vector_table() + 4 * u32::from(exc))?;
-        self.set(RegisterARM::IPSR, u32::from(exc))?;
-        self.set(RegisterARM::PC, vector | 1)?;
-        let st = self.uc.get_data_mut();
-        st.p.nvic.activate(exc);
-        st.timing.redirect();
-        Ok(())
-    }
-
-    /// Exception return (B1.5.8), or a tail-chain into the next pending exception.
-    fn exception_return(&mut self) -> Result<(), Error> {
-        self.account();
-        let exc_return = self.pc()? | 1;
-        let st = self.uc.get_data_mut();
-        if st.p.nvic.deactivate().is_none() {
-            return Err(Error::Lockup {
-                pc: exc_return,
-                reason: "exception return with no active exception".into(),
-            });
-        }
-        st.p.update_lines();
-        if let Some(next) = self.preempting()? {
-            self.set(RegisterARM::LR, exc_return)?;
-            self.handler(next)?;
-            self.uc.get_data_mut().extra += TAIL_CHAIN_CYCLES;
-            return Ok(());
-        }
-        let sp = self.reg(RegisterARM::SP)?;
-        let fp = exc_return & 0x10 == 0;
-        let n = if fp { 26 } else { 8 };
-        let bytes = self.read(sp, 4 * n)?;
-        let w: Vec<u32> = bytes
-            .chunks_exact(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect();
-        for (r, v) in [
-            RegisterARM::R0,
-            RegisterARM::R1,
-            RegisterARM::R2,
-            RegisterARM::R3,
-            RegisterARM::R12,
-            RegisterARM::LR,
-        ]
-        .into_iter()
-        .zip(&w)
-        {
-            self.set(r, *v)?;
-        }
-        if fp {
-            for i in 0..16 {
-                self.set(s_reg(i), w[8 + i])?;
-            }
-            self.set(RegisterARM::FPSCR, w[24])?;
-        }
-        let xpsr = w[7];
-        let size = 4 * n as u32 + ((xpsr >> 9) & 1) * 4;
-        self.set(RegisterARM::SP, sp + size)?;
-        let control = self.reg(RegisterARM::CONTROL)?;
-        self.set(
-            RegisterARM::CONTROL,
-            if fp { control | 4 } else { control & !4 },
-        )?;
-        self.set(RegisterARM::XPSR_NZCVQG, xpsr)?;
-        self.set(RegisterARM::IPSR, xpsr & 0x1FF)?;
-        self.set(RegisterARM::PC, w[6] | 1)?;
-        let st = self.uc.get_data_mut();
-        st.extra += RETURN_CYCLES;
-        st.timing.redirect();
-        Ok(())
-    }
-
-    /// A synchronous fault: HardFault (the configurable faults are not enabled by the firmware,
-    /// so they escalate, B1.5.8), or a lockup when HardFault itself faults.
-    fn fault(&mut self, fault: Fault) -> Result<(), Error> {
-        let (pc, cfsr, what) = match fault {
-            Fault::Memory { access, addr, pc } => (
-                pc,
-                1 << 9, // PRECISERR
-                format!("{access} of unmapped address {addr:#010x}"),
-            ),
-            Fault::Undefined { pc } => (pc, 1 << 16, "undefined instruction".to_owned()), // UNDEFINSTR
-            Fault::Other { number, pc } => (pc, 1 << 16, format!("CPU exception {number}")),
-        };
-        let st = self.uc.get_data_mut();
-        if st.p.nvic.current() == HARD_FAULT || st.p.nvic.active().contains(&HARD_FAULT) {
-            return Err(Error::Lockup {
-                pc,
-                reason: format!("{what} in the HardFault handler"),
-            });
-        }
-        st.p.nvic.cfsr |= cfsr;
-        st.p.nvic.hfsr |= 1 << 30; // FORCED
-        self.sleeping = false;
-        self.enter(HARD_FAULT, Some(pc))
-    }
-}
-
-fn s_reg(i: usize) -> RegisterARM {
-    const S: [RegisterARM; 16] = [
-        RegisterARM::S0,
-        RegisterARM::S1,
-        RegisterARM::S2,
-        RegisterARM::S3,
-        RegisterARM::S4,
-        RegisterARM::S5,
-        RegisterARM::S6,
-        RegisterARM::S7,
-        RegisterARM::S8,
-        RegisterARM::S9,
-        RegisterARM::S10,
-        RegisterARM::S11,
-        RegisterARM::S12,
-        RegisterARM::S13,
-        RegisterARM::S14,
-        RegisterARM::S15,
-    ];
-    S[i]
 }
 
 /// RTT's view of the emulated memory.
@@ -837,208 +629,6 @@ impl rtt::Memory for UcMemory<'_, '_> {
     fn write(&mut self, addr: u32, bytes: &[u8]) -> bool {
         self.0.mem_write(addr.into(), bytes).is_ok()
     }
-}
-
-/// The board's memory map beyond flash, CCM and SRAM.
-fn map_memory(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
-    // ST's system memory and OTP/UID area: read-only zeros
-    uc.mem_map(0x1FFF_0000, 0x1_0000, Prot::READ).map_err(emu)?;
-    uc.mem_map(EXC_RETURN_PAGE.into(), 0x1000, Prot::READ | Prot::EXEC)
-        .map_err(emu)?;
-    let rw = Prot::READ | Prot::WRITE;
-    // PPB as RAM except the DWT page and the SCS page, which are models
-    uc.mem_map(0xE000_0000, u64::from(DWT_PAGE - 0xE000_0000), rw)
-        .map_err(emu)?;
-    uc.mem_map(
-        u64::from(DWT_PAGE + 0x1000),
-        u64::from(SCS_PAGE - DWT_PAGE - 0x1000),
-        rw,
-    )
-    .map_err(emu)?;
-    uc.mem_map(
-        u64::from(SCS_PAGE + 0x1000),
-        0xE010_0000 - u64::from(SCS_PAGE + 0x1000),
-        rw,
-    )
-    .map_err(emu)?;
-    uc.mmio_map(
-        DWT_PAGE.into(),
-        0x1000,
-        Some(|uc: &mut Unicorn<'_, Sys>, offset: u64, size: usize| {
-            let st = uc.get_data_mut();
-            if offset == u64::from(DWT_CYCCNT - DWT_PAGE) {
-                return st.now() & 0xFFFF_FFFF;
-            }
-            st.dwt.read(offset, size)
-        }),
-        Some(
-            |uc: &mut Unicorn<'_, Sys>, offset: u64, size: usize, value: u64| {
-                uc.get_data_mut().dwt.write(offset, size, value);
-            },
-        ),
-    )
-    .map_err(emu)?;
-    for (base, size) in [
-        (SCS_PAGE, 0x1000u64),
-        (PERIPH.start, u64::from(PERIPH.end - PERIPH.start)),
-        (DCMI_BASE, 0x1000),
-    ] {
-        uc.mmio_map(
-            base.into(),
-            size,
-            Some(move |uc: &mut Unicorn<'_, Sys>, offset: u64, size: usize| {
-                u64::from(bus_read(uc.get_data_mut(), base + offset as u32, size))
-            }),
-            Some(
-                move |uc: &mut Unicorn<'_, Sys>, offset: u64, size: usize, value: u64| {
-                    bus_write(uc.get_data_mut(), base + offset as u32, size, value as u32);
-                },
-            ),
-        )
-        .map_err(emu)?;
-    }
-    // the peripheral bit-band alias
-    uc.mmio_map(
-        PERIPH_BB.into(),
-        u64::from(PERIPH.end - PERIPH.start) * 32,
-        Some(|uc: &mut Unicorn<'_, Sys>, offset: u64, _size: usize| {
-            let (word, bit) = Peripherals::bit_band(PERIPH_BB + offset as u32);
-            let st = uc.get_data_mut();
-            let now = st.now();
-            u64::from((st.p.read(word, now) >> bit) & 1)
-        }),
-        Some(
-            |uc: &mut Unicorn<'_, Sys>, offset: u64, _size: usize, value: u64| {
-                let (word, bit) = Peripherals::bit_band(PERIPH_BB + offset as u32);
-                let st = uc.get_data_mut();
-                let now = st.now();
-                let old = st.p.read(word, now);
-                let new = if value & 1 != 0 {
-                    old | 1 << bit
-                } else {
-                    old & !(1 << bit)
-                };
-                bus_write(st, word, 4, new);
-            },
-        ),
-    )
-    .map_err(emu)?;
-    Ok(())
-}
-
-fn bus_read(st: &mut Sys, addr: u32, size: usize) -> u32 {
-    let now = st.now();
-    let word = st.p.read(addr & !3, now);
-    let shift = 8 * (addr & 3);
-    let mask = if size >= 4 {
-        u32::MAX
-    } else {
-        (1u32 << (8 * size)) - 1
-    };
-    (word >> shift) & mask
-}
-
-fn bus_write(st: &mut Sys, addr: u32, size: usize, value: u32) {
-    let now = st.now();
-    let aligned = addr & !3;
-    let word = if size >= 4 {
-        value
-    } else {
-        // a narrow write: the other bytes keep what a read returns (0 for the write-only
-        // and write-1-to-clear registers)
-        let shift = 8 * (addr & 3);
-        let mask = ((1u32 << (8 * size)) - 1) << shift;
-        (st.p.read(aligned, now) & !mask) | ((value << shift) & mask)
-    };
-    if aligned == UART4_BASE + 4 {
-        st.log.uart_writes.push((now, value as u8));
-    }
-    if st.p.write(aligned, word, now, &mut st.events) {
-        st.p.update_lines();
-    }
-    // the queue may hold an earlier event now, and an interrupt may be pending
-    st.stop_at = st.stop_at.min(st.events.next_at());
-    if st.p.nvic.any_pending() {
-        st.force_stop = true;
-    }
-}
-
-fn add_hooks(uc: &mut Unicorn<'static, Sys>) -> Result<(), Error> {
-    uc.add_code_hook(1, 0, |uc: &mut Unicorn<'_, Sys>, addr: u64, size: u32| {
-        let pc = addr as u32;
-        if !uc.get_data().decoded.contains_key(&pc) {
-            let d = decode_at(uc, &uc.get_data().decoder, addr, size);
-            let text = d.text();
-            let kind = if text.starts_with("wfi") || text.starts_with("wfe") {
-                Kind::Sleep
-            } else if text.starts_with("msr") || text.starts_with("cps") {
-                Kind::Mask
-            } else {
-                Kind::Plain
-            };
-            uc.get_data_mut().decoded.insert(pc, (d, kind));
-        }
-        let st = uc.get_data_mut();
-        let Some(&(d, kind)) = st.decoded.get(&pc) else {
-            return;
-        };
-        if !st.timing.in_it_block()
-            && (st.force_stop
-                || st.now() >= st.stop_at
-                || kind == Kind::Sleep
-                || pc >= EXC_RETURN_PAGE)
-        {
-            let _ = uc.emu_stop();
-            return;
-        }
-        st.timing.step(pc, &d);
-        if kind == Kind::Mask && st.p.nvic.any_pending() {
-            st.force_stop = true;
-        }
-    })
-    .map_err(emu)?;
-
-    uc.add_mem_hook(
-        HookType::MEM_INVALID,
-        1,
-        0,
-        |uc: &mut Unicorn<'_, Sys>, kind: MemType, addr: u64, _size: usize, _v: i64| {
-            let access = match kind {
-                MemType::READ_UNMAPPED | MemType::READ_PROT => Access::Read,
-                MemType::WRITE_UNMAPPED | MemType::WRITE_PROT => Access::Write,
-                _ => Access::Fetch,
-            };
-            let st = uc.get_data_mut();
-            let pc = st.timing.pc();
-            st.fault.get_or_insert(Fault::Memory {
-                access,
-                addr: addr as u32,
-                pc,
-            });
-            false
-        },
-    )
-    .map_err(emu)?;
-    uc.add_intr_hook(|uc: &mut Unicorn<'_, Sys>, number: u32| {
-        let pc = uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32;
-        let st = uc.get_data_mut();
-        if number == 8 {
-            // EXCP_EXCEPTION_EXIT: a branch to an EXC_RETURN value in Handler mode
-            st.exc_return = true;
-        } else {
-            st.fault.get_or_insert(Fault::Other { number, pc });
-        }
-        let _ = uc.emu_stop();
-    })
-    .map_err(emu)?;
-    uc.add_insn_invalid_hook(|uc: &mut Unicorn<'_, Sys>| {
-        let pc = uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32;
-        let st = uc.get_data_mut();
-        st.fault.get_or_insert(Fault::Undefined { pc });
-        false
-    })
-    .map_err(emu)?;
-    Ok(())
 }
 
 #[cfg(test)]
