@@ -1,6 +1,6 @@
-//! The `alvs` binary's side of sweeps (a module of `main.rs`, not of the library): an
-//! experiment run whole or as one shard (`--shard I/N`), and `alvs merge`, which rebuilds the
-//! shards' configuration from the command line they carry and prints the unsharded report.
+//! The CLI's side of sweeps: an experiment run whole or as one shard (`--shard I/N`), and
+//! `alvs merge`, which rebuilds the shards' configuration from the command line they carry and
+//! prints the unsharded report.
 
 use std::path::{Path, PathBuf};
 
@@ -8,7 +8,8 @@ use alvs_host::experiments::sweep::{self, Shard, ShardFile, Sweep};
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 
-use crate::{progress_bar, Cli, Cmd, Outputs};
+use super::args::{Cli, Cmd};
+use super::runner::{self, progress_bar, Experiment, Outputs};
 
 /// `alvs merge`'s options.
 #[derive(clap::Args)]
@@ -35,11 +36,9 @@ pub fn execute<S: Sweep>(
     frames: u64,
 ) -> Result<()> {
     let Some(shard) = shard else {
-        out.check()?;
-        let bar = progress_bar(S::NAME, frames);
-        let r = sweep::run_all(config, jobs, &|n| bar.inc(n));
-        bar.finish_and_clear();
-        return out.publish(&r?);
+        return runner::whole(S::NAME, frames, out, |progress| {
+            sweep::run_all(config, jobs, progress)
+        });
     };
     if out.trace.is_some() {
         bail!("--trace cannot be sharded (every robot-frame would go into the shard file); run without --shard");
@@ -93,7 +92,7 @@ pub fn merge(a: MergeArgs) -> Result<()> {
         anyhow::anyhow!(
             "the shards' command line `{}` does not parse: {}",
             line(),
-            crate::one_line(&e)
+            super::one_line(&e)
         )
     })?;
     let png = a
@@ -106,18 +105,19 @@ pub fn merge(a: MergeArgs) -> Result<()> {
     };
     out.check()?;
     match cli.cmd {
-        Cmd::Arena(x) => pool(&crate::arena_config(&x)?, &files, &out),
-        Cmd::Evasion(x) => pool(&crate::evasion_config(&x)?, &files, &out),
-        Cmd::TwoThreats(x) => pool(&crate::two_threats_config(&x)?, &files, &out),
-        Cmd::Swarm(x) => pool(&crate::swarm_config(&x)?, &files, &out),
-        Cmd::Stimuli(x) => pool(&crate::stimuli_config(&x)?, &files, &out),
-        Cmd::Robustness(x) => pool(&crate::robustness_config(&x)?, &files, &out),
-        Cmd::Ablation(x) => pool(&crate::ablation_config(&x)?, &files, &out),
+        Cmd::Arena(x) => pool(&x, &files, &out),
+        Cmd::Evasion(x) => pool(&x, &files, &out),
+        Cmd::TwoThreats(x) => pool(&x, &files, &out),
+        Cmd::Swarm(x) => pool(&x, &files, &out),
+        Cmd::Stimuli(x) => pool(&x, &files, &out),
+        Cmd::Robustness(x) => pool(&x, &files, &out),
+        Cmd::Ablation(x) => pool(&x, &files, &out),
         _ => bail!("`{}` is not an experiment that can be sharded", line()),
     }
 }
 
-/// Prints and writes what an unsharded run of `config` would, from the shards' trials.
-fn pool<S: Sweep>(config: &S, files: &[ShardFile], out: &Outputs) -> Result<()> {
-    out.publish(&sweep::merge(config, files)?)
+/// Prints and writes what an unsharded run of the experiment `args` describe would, from the
+/// shards' trials.
+fn pool<E: Experiment>(args: &E, files: &[ShardFile], out: &Outputs) -> Result<()> {
+    out.publish(&sweep::merge(&args.config()?, files)?)
 }
