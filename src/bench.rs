@@ -4,8 +4,8 @@
 //! and on the board, where `init` runs it on built-in frames and prints the cycles over RTT
 //! ([`self_test`]), so the model can be calibrated against the real chip.
 
+use alvs_tasks::model::closed_loop::movers::Movers;
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
-use alvs_tasks::model::movers::Movers;
 use alvs_tasks::robot::bench::{self, Report};
 use alvs_tasks::robot::control::Control;
 use alvs_tasks::robot::self_test::{self, BenchLine};

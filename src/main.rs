@@ -51,8 +51,8 @@ mod app {
     use crate::capture::FrameIn;
     use crate::motor_link::MotorLink;
     use crate::{bench, camera, setup, BOOT_BEHAVIOUR, RTT_DROPPED, TELEMETRY_QUEUE};
+    use alvs_tasks::model::closed_loop::movers::Movers;
     use alvs_tasks::model::fsm::{Behaviour, FsmParams};
-    use alvs_tasks::model::movers::Movers;
     use alvs_tasks::model::param_table::off0;
     use alvs_tasks::robot::camera::{Counters, FrameEnd};
     use alvs_tasks::robot::control::Control;

@@ -11,8 +11,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use alvs_tasks::model::closed_loop::movers::Movers;
 use alvs_tasks::model::fsm::{Behaviour, FsmParams};
-use alvs_tasks::model::movers::Movers;
 use alvs_tasks::robot::bench::{Report, STAMPS};
 use alvs_tasks::robot::control::Control;
 use alvs_tasks::robot::self_test::{self, BenchLine};

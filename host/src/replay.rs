@@ -4,9 +4,9 @@
 use alvs_tasks::model::param_table::off0;
 use std::path::{Path, PathBuf};
 
+use alvs_tasks::model::closed_loop::movers::Movers;
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, Odometry};
 use alvs_tasks::model::hrc::{motion_map, Direction};
-use alvs_tasks::model::movers::Movers;
 use alvs_tasks::{Frame, Network, Params, Perception, HEIGHT, PIXELS, WIDTH};
 use anyhow::{Context, Result};
 use serde::Serialize;

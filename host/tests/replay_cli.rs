@@ -162,8 +162,8 @@ fn a_reader_that_stops_early_ends_the_replay_quietly() {
 #[test]
 fn a_swarm_replay_looks_and_sets_off_towards_what_moves() {
     use alvs_host::replay::Pipeline;
+    use alvs_tasks::model::closed_loop::movers::Sighting;
     use alvs_tasks::model::fsm::{Behaviour, FsmParams, State};
-    use alvs_tasks::model::movers::Sighting;
     use alvs_tasks::{Params, PIXELS, WIDTH};
     let run = |moving: bool| {
         let mut pipe =

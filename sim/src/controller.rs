@@ -2,8 +2,8 @@
 //! perception and FSM from `alvs_tasks`), its swarm variant, and the LGMD2 baseline with its
 //! direction-blind escape. A scripted controller drives obstacle robots.
 
+use alvs_tasks::model::closed_loop::movers::Movers;
 use alvs_tasks::model::fsm::{Behaviour, Fsm, FsmParams, State};
-use alvs_tasks::model::movers::Movers;
 use alvs_tasks::model::param_table::off0;
 use alvs_tasks::model::visuomotor::wrap_deg;
 use alvs_tasks::{Frame, Network, Params};

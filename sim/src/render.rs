@@ -934,7 +934,7 @@ mod tests {
     /// simulator must render what the model assumes.
     #[test]
     fn the_model_assumes_the_camera_this_renders() {
-        use alvs_tasks::model::{derotate, floor};
+        use alvs_tasks::model::closed_loop::{derotate, floor};
         assert!((f64::from(derotate::FOCAL_PX) - FOCAL_PX).abs() < 1e-4);
         assert_eq!(CAMERA_HEIGHT_MM, f64::from(floor::CAMERA_HEIGHT_MM));
         assert_eq!(2.0 * CENTRE_ROW, (alvs_tasks::HEIGHT - 1) as f64);

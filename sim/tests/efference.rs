@@ -1,4 +1,4 @@
-//! Efference copy of turns (`Params::derotate`, `alvs_tasks::model::derotate`) on the arena's
+//! Efference copy of turns (`Params::derotate`, `alvs_tasks::model::closed_loop::derotate`) on the arena's
 //! rendered camera: a robot turning in place on a still scene.
 
 use alvs_sim::render::Renderer;

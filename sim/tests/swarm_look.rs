@@ -1,4 +1,4 @@
-//! The swarm's look (`Params::look_change`, `alvs_tasks::model::movers`) on rendered views
+//! The swarm's look (`Params::look_change`, `alvs_tasks::model::closed_loop::movers`) on rendered views
 //! with the camera's noise: a standing robot finds another robot that spins or drives, at its
 //! bearing, and nothing in a still scene of walls and standing robots.
 //!
@@ -6,7 +6,7 @@
 
 use alvs_sim::render::CAMERA_FORWARD_MM;
 use alvs_sim::{Camera, Pose, Renderer, SensorNoise, WallTexture, World};
-use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
+use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::Params;
 
 /// A viewer in the arena's middle, facing +x.

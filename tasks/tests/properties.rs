@@ -9,9 +9,9 @@
 use alvs_tasks::model::param_table::off0;
 use std::cell::Cell;
 
-use alvs_tasks::model::derotate::MAX_TURN_DEG;
-use alvs_tasks::model::floor::nearest_foot;
-use alvs_tasks::model::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
+use alvs_tasks::model::closed_loop::derotate::MAX_TURN_DEG;
+use alvs_tasks::model::closed_loop::floor::nearest_foot;
+use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::model::network::DRIVING_MM_S;
 use alvs_tasks::model::params::{
     Choices, Efference, FirmwareVariant, Mechanisms, ShortGates, SwarmLook, TableOne,

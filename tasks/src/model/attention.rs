@@ -28,7 +28,7 @@ use crate::model::retina::Weights;
 use crate::model::MAX_AFS;
 
 /// `Params::t_a_quiet`: the share of the retina, in percent, that must be changing (by
-/// [`crate::model::luminance::CHANGE_LEVEL`] levels or more, one direction) for Eq. (3) to use
+/// [`crate::model::closed_loop::luminance::CHANGE_LEVEL`] levels or more, one direction) for Eq. (3) to use
 /// Table I's `T_a`; below it the threshold falls linearly towards `t_a_quiet`. Measured on
 /// the rendered arena (medians): a standing robot's view changes on 0 % of its pixels, one
 /// driving at 100 mm/s past the built-in walls on 4–14 %, at 200 mm/s on 11–25 % (plain walls:
@@ -36,7 +36,7 @@ use crate::model::MAX_AFS;
 pub const BUSY_PCT: u32 = 10;
 
 /// The attention threshold of Eq. (3) for a frame in which `changing` = `(on, off, sampled)`
-/// pixels changed ([`crate::model::luminance::changing`]): `T_a` in a busy scene, down to
+/// pixels changed ([`crate::model::closed_loop::luminance::changing`]): `T_a` in a busy scene, down to
 /// `Params::t_a_quiet` in a still one (salience normalised by the scene's overall activity,
 /// as photoreceptor and lamina gain rise in a quiet, low-contrast scene). `T_a` when the
 /// mechanism is off (0) or not below `T_a`.

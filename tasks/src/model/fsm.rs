@@ -35,8 +35,8 @@
 //! The parameters, [`FsmParams`] with its groups and presets, are declared in `fsm/params.rs`
 //! and re-exported here.
 
-use crate::model::movers::Sighting;
-use crate::model::progress::{self, Progress};
+use crate::model::closed_loop::movers::Sighting;
+use crate::model::closed_loop::progress::{self, Progress};
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
 
 mod params;
@@ -53,8 +53,8 @@ pub const MAX_LOOK_SCANS: u32 = 3;
 
 /// Swarm: a look (the turn to its direction included) ends after this many frames without a
 /// report from the look beside the network (one that never reports: `Params::look_change` 0):
-/// 3 s, against 0.73 s for a look ([`crate::model::movers::SETTLE_FRAMES`] +
-/// [`crate::model::movers::SPAN_FRAMES`] standing frames) and ≈ 0.5 s for the 90° turn before
+/// 3 s, against 0.73 s for a look ([`crate::model::closed_loop::movers::SETTLE_FRAMES`] +
+/// [`crate::model::closed_loop::movers::SPAN_FRAMES`] standing frames) and ≈ 0.5 s for the 90° turn before
 /// it.
 pub const LOOK_TIMEOUT_FRAMES: u32 = 90;
 
@@ -157,7 +157,7 @@ pub struct MotorCommand {
 
 impl MotorCommand {
     /// Both wheels are told to stand still: the efference copy of standing that the swarm's
-    /// look waits for ([`crate::model::movers::Movers::step`]).
+    /// look waits for ([`crate::model::closed_loop::movers::Movers::step`]).
     pub fn stands(&self) -> bool {
         self.left_mm_s == 0.0 && self.right_mm_s == 0.0
     }

@@ -12,9 +12,9 @@
 //! | strength, threat centroid, escape angles | [`visuomotor`] | Eqs. (11)–(15) |
 //! | escape FSM (and the swarm variant) | [`fsm`] | Sec. II-B, IV-D |
 //! | Cortex-M4 DSP instructions of the pixel loops, with their plain meaning | [`dsp`] | — |
-//! | whole-field luminance events (a closed-loop mechanism, not in the paper) | [`luminance`] | — |
-//! | efference copy of turns: the retina's memory re-registered (closed-loop, not in the paper) | [`derotate`] | — |
-//! | moving objects seen while standing, the swarm's look (closed-loop, not in the paper) | [`movers`] | — |
+//!
+//! The closed-loop mechanisms the project adds to the paper (the default model's, each a
+//! parameter that is off in `--model paper`) are apart, in [`closed_loop`].
 
 /// Attention fields the network can hold at once. With Table I's `R_AF` = 36 on a 99x72
 /// retina at most 3 x 2 field centres can lie outside each other's squares, so the
@@ -24,17 +24,13 @@
 pub const MAX_AFS: usize = 6;
 
 pub mod attention;
-pub mod derotate;
+pub mod closed_loop;
 pub mod dsp;
-pub mod floor;
 pub mod fsm;
 pub mod hrc;
 pub mod lplc2;
-pub mod luminance;
-pub mod movers;
 pub mod network;
 pub mod param_table;
 pub mod params;
-pub mod progress;
 pub mod retina;
 pub mod visuomotor;

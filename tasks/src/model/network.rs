@@ -14,14 +14,14 @@
 
 use crate::frame::{Frame, CENTRE_X, WIDTH};
 use crate::model::attention::{self, Fields};
-use crate::model::derotate::Turn;
-use crate::model::floor;
+use crate::model::closed_loop::derotate::Turn;
+use crate::model::closed_loop::floor;
+use crate::model::closed_loop::luminance;
+use crate::model::closed_loop::progress;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
-use crate::model::luminance;
 use crate::model::param_table::off0;
 use crate::model::params::{ParamError, Params};
-use crate::model::progress;
 use crate::model::retina::{delay_q8, Retina, RowError, Weights};
 use crate::model::visuomotor::Visuomotor;
 
@@ -228,8 +228,8 @@ impl Network {
     /// Efference copy: the robot turned by `yaw_deg` degrees (positive = right) since the last
     /// frame; call it between frames, before the next frame's first row. With
     /// `Params::derotate` the retina's memory and the fields' centroids are re-registered to
-    /// the new heading, so the turn itself causes no motion signal ([`crate::model::derotate`]);
-    /// a turn beyond [`crate::model::derotate::MAX_TURN_DEG`] or not finite starts over (the
+    /// the new heading, so the turn itself causes no motion signal ([`crate::model::closed_loop::derotate`]);
+    /// a turn beyond [`crate::model::closed_loop::derotate::MAX_TURN_DEG`] or not finite starts over (the
     /// next frame primes). Without it (the paper) the report is ignored. Returns false, doing
     /// nothing, while a streamed frame is half in.
     pub fn turned(&mut self, yaw_deg: f32) -> bool {

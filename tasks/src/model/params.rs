@@ -134,12 +134,12 @@ param_groups! {
         efference: Efference {
             /// Efference copy of turns: `true` re-registers the retina's memory to each turn the robot
             /// reports ([`crate::Network::turned`]), so a turn causes no motion signal
-            /// ([`crate::model::derotate`]); `false` ignores the reports (the paper). See `docs/model.md`,
+            /// ([`crate::model::closed_loop::derotate`]); `false` ignores the reports (the paper). See `docs/model.md`,
             /// "Closed-loop mechanisms".
             derotate: bool = Range::Int(0, 1),
             /// Blocked way (efference copy): the escape FSM turns around when it commanded forward
             /// travel but the coarse view changed by less than this many grey levels on average
-            /// ([`crate::model::progress`]). `None` (0) turns it off (the paper). The default, 2, is below
+            /// ([`crate::model::closed_loop::progress`]). `None` (0) turns it off (the paper). The default, 2, is below
             /// every free robot's change on the six arena walls measured (the soft `outdoor_2`
             /// photograph changes by less than 6 levels on 39 % of its free frames, never below 2) and
             /// above most of a pressed robot's (`docs/experiments.md`, "Closed-loop mechanisms").
@@ -155,7 +155,7 @@ param_groups! {
             /// "Closed-loop mechanisms".
             band_row: Option<NonZeroU8> = Range::Int(0, HEIGHT as i64 - 1),
             /// While the robot drives forward, an obstacle whose foot (where it meets the floor) lies
-            /// at or below this row inside the robot's path is reported ([`crate::model::floor`]),
+            /// at or below this row inside the robot's path is reported ([`crate::model::closed_loop::floor`]),
             /// and alerts on a frame no field alerts on: with the camera at a fixed height over a flat
             /// floor, the row is the distance. `None` (0) turns it off (the paper; the default 52, measured in
             /// `docs/experiments.md`); rows at or above the horizon (≤ 35) find nothing either. See
@@ -182,7 +182,7 @@ param_groups! {
             /// mechanisms".
             short_cols: Option<NonZeroU8> = Range::Int(0, 49),
             /// While the robot drives forward, the short mode also needs the threat's foot (where it
-            /// meets the floor, [`crate::model::floor::nearest_foot`] at `X̄`) at or below this row:
+            /// meets the floor, [`crate::model::closed_loop::floor::nearest_foot`] at `X̄`) at or below this row:
             /// within about one second of travel. Driving, a wall or robot still far ahead expands
             /// with the robot's own speed; the floor line gives its distance. Row 50 is 97 mm from the
             /// camera (20 mm above the floor), one second at the cruise speed of 100 mm/s. The alert
@@ -196,9 +196,9 @@ param_groups! {
             /// `docs/model.md`, "Closed-loop mechanisms".
             short_row: Option<NonZeroU8> = Range::Int(0, HEIGHT as i64 - 1),
         },
-        /// The swarm's look, run beside the network ([`crate::model::movers`]).
+        /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
         swarm: SwarmLook {
-            /// The swarm's look ([`crate::model::movers`], run beside the network by whatever runs
+            /// The swarm's look ([`crate::model::closed_loop::movers`], run beside the network by whatever runs
             /// the swarm behaviour): while the wheels are commanded to stand, the band of rows where
             /// robots appear is compared over 0.4 s, and the column where most pixels changed by more
             /// than this many grey levels is reported: something that moves, another robot, since a

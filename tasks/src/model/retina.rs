@@ -22,7 +22,7 @@
 //! tests hold the streaming form to.
 
 use crate::frame::{Frame, HEIGHT, PIXELS, WIDTH};
-use crate::model::derotate::{Map, Turn};
+use crate::model::closed_loop::derotate::{Map, Turn};
 use crate::model::dsp;
 use crate::model::hrc::{Cells, Maps};
 use crate::model::params::Params;
@@ -190,7 +190,7 @@ impl Retina {
     }
 
     /// Re-registers the memory (`P(t−1)`, the means and their delay line) to a turn of the
-    /// robot since the last frame ([`crate::model::derotate`]); between frames only (the caller checks).
+    /// robot since the last frame ([`crate::model::closed_loop::derotate`]); between frames only (the caller checks).
     /// Means with no past (what came into view) are 0.
     pub fn turn(&mut self, turn: &Turn) {
         if !self.primed || turn.is_zero() {

@@ -6,9 +6,9 @@
 //! image (`X̄ > 49`) is at a positive bearing.
 
 use crate::frame::CENTRE_X;
-use crate::model::movers::Sighting;
+use crate::model::closed_loop::movers::Sighting;
+use crate::model::closed_loop::progress::View;
 use crate::model::params::Params;
-use crate::model::progress::View;
 
 /// What the premotor neurons make of one frame's LPLC2 responses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -37,7 +37,7 @@ pub struct Visuomotor {
     /// at once. `None` without one.
     pub obstacle: Option<f32>,
     /// What the swarm's look found on this frame (`Params::look_change`,
-    /// [`crate::model::movers::Movers`], run beside the network; the network leaves it `None`):
+    /// [`crate::model::closed_loop::movers::Movers`], run beside the network; the network leaves it `None`):
     /// `Some` once per look of a robot commanded to stand, `None` on every other frame.
     pub sighting: Option<Sighting>,
 }

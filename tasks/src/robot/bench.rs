@@ -6,7 +6,7 @@
 //! The frame enters row by row, as the camera delivers it on the robot.
 
 use crate::frame::Frame;
-use crate::model::movers::Movers;
+use crate::model::closed_loop::movers::Movers;
 use crate::model::network::{Network, Stage};
 use crate::robot::control::Control;
 

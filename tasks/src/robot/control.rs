@@ -7,8 +7,8 @@
 //! policy holds the motors.
 
 use crate::frame::Frame;
+use crate::model::closed_loop::movers::Movers;
 use crate::model::fsm::{Behaviour, Fsm, FsmParams, HeadingEstimator, MotorCommand, Odometry};
-use crate::model::movers::Movers;
 use crate::model::visuomotor::{wrap_deg, Visuomotor};
 use crate::robot::motor::{MotorFrames, MotorOutput};
 

@@ -1,8 +1,8 @@
-//! The blocked-way test (efference copy, `model::progress`): forward travel commanded, view
+//! The blocked-way test (efference copy, `model::closed_loop::progress`): forward travel commanded, view
 //! unchanged → turn around; a changing view, a turning robot or no views → nothing.
 
 use super::*;
-use alvs_tasks::model::progress::{View, VIEW_CELLS};
+use alvs_tasks::model::closed_loop::progress::{View, VIEW_CELLS};
 
 /// A quiet frame with a view whose cells are all `level`, and the threshold 6.
 fn seeing(level: u8) -> Visuomotor {

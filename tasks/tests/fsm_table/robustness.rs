@@ -1,7 +1,7 @@
 //! Bad input: non-finite values stop the wheels, any input keeps the outputs finite.
 
 use super::*;
-use alvs_tasks::model::progress::VIEW_CELLS;
+use alvs_tasks::model::closed_loop::progress::VIEW_CELLS;
 
 #[test]
 fn non_finite_inputs_stop_the_wheels_without_a_transition() {

@@ -75,7 +75,7 @@ param_groups! {
             /// its fields' LPLC2 history, so the first frames after a saccade report self-motion.
             settle_frames: u32 = FRAMES,
         },
-        /// Blocked way (efference copy, [`crate::model::progress`]): the robot drove but the view
+        /// Blocked way (efference copy, [`crate::model::closed_loop::progress`]): the robot drove but the view
         /// did not change.
         blocked: Blocked {
             /// Frames between two views compared. Active only when the network reports views
@@ -157,7 +157,7 @@ param_groups! {
             spin_deg_s: f32 = NON_NEG,
             /// Frames of wandering before the robot stops to look for moving objects (it also
             /// looks after every spin). A look stands until the look beside the network reports what
-            /// it saw (`Params::look_change`, [`crate::model::movers`]: 22 standing frames, 0.73 s; at
+            /// it saw (`Params::look_change`, [`crate::model::closed_loop::movers`]: 22 standing frames, 0.73 s; at
             /// most [`LOOK_TIMEOUT_FRAMES`]); the robot then wanders towards the mover, or, with
             /// nothing in view, turns 90° in place and looks again, up to `look_scans` times, and
             /// wanders on. A value much below a look's length leaves little wandering. Spinning and

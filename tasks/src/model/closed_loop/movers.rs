@@ -20,7 +20,7 @@
 //! Integer arithmetic, one pass over the band per standing frame (2,574 pixels).
 
 use crate::frame::{Frame, CENTRE_X, WIDTH};
-use crate::model::derotate::FOCAL_PX;
+use crate::model::closed_loop::derotate::FOCAL_PX;
 
 /// First row of the band compared: 28 mm tall robots 100–800 mm away, seen from 20 mm above
 /// the floor, span rows 30–49 (the horizon is row 35.5); rows above show only walls.
