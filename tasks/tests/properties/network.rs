@@ -1,0 +1,255 @@
+//! Properties of the network run on generated frames and parameters: bounded and consistent
+//! outputs, a standing robot's looks, the field capacity, determinism; and the regression of
+//! the threat's centroid under saturated responses.
+
+use super::*;
+use alvs_tasks::model::closed_loop::derotate::MAX_TURN_DEG;
+use alvs_tasks::model::closed_loop::floor::nearest_foot;
+use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
+use alvs_tasks::model::network::DRIVING_MM_S;
+use alvs_tasks::model::params::{Choices, TableOne};
+use std::cell::Cell;
+
+/// Turns reported between frames (`Network::turned`): mostly what a robot turns in a frame,
+/// some beyond the limit, some not numbers at all.
+fn turns() -> impl Strategy<Value = Vec<f32>> {
+    let turn = prop_oneof![
+        6 => -15.0f32..15.0,
+        1 => -60.0f32..60.0,
+        1 => prop_oneof![Just(f32::NAN), Just(f32::INFINITY), Just(-0.0), any::<f32>()],
+    ];
+    prop::collection::vec(turn, 1..16)
+}
+
+/// Arbitrary valid parameters, frame sequences and turns between the frames: no panic, every
+/// output invariant holds. The run must also exercise alerts, short mode and several fields,
+/// or it proves little.
+#[test]
+fn outputs_stay_bounded_and_consistent() {
+    let (alert_cases, short_cases, multi_cases) = (Cell::new(0), Cell::new(0), Cell::new(0));
+    let mut runner = TestRunner::new(config(256));
+    let result = runner.run(
+        &(valid_params(), sequence(), turns()),
+        |(p, specs, turns)| {
+            let mut net = Network::new(p).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            let (mut alert, mut short, mut multi) = (false, false, false);
+            // frames since the network last (re)started: a turn it cannot re-register restarts it
+            let mut k = 0;
+            for (i, f) in render(&specs).iter().enumerate() {
+                let turn = turns[i % turns.len()];
+                prop_assert!(net.turned(turn), "between frames");
+                // the efference copy of forward motion: driving on most frames, any value
+                let driving = i % 4 != 0;
+                net.driving(if driving { 150.0 } else { turn });
+                let driving = driving || turn > 20.0;
+                if p.efference.derotate && !(turn.is_finite() && turn.abs() <= MAX_TURN_DEG) {
+                    k = 0;
+                }
+                let out = net.step(f);
+                check(&p, k, &out, driving)?;
+                // `Params::short_row`: a driving robot's short mode has its foot close enough
+                // (the network drives when told more than DRIVING_MM_S: 150, or the turn)
+                let told = if i % 4 != 0 { 150.0 } else { turn };
+                if told > DRIVING_MM_S && off0(p.short.short_row) > 0 && out.vm.short_mode {
+                    let x = out.vm.threat_x.map_or(0, |x| x as u8);
+                    prop_assert!(
+                        nearest_foot(f, x).is_some_and(|row| row >= off0(p.short.short_row)),
+                        "frame {i}: {:?}",
+                        out.vm
+                    );
+                }
+                k += 1;
+                alert |= out.alert();
+                short |= out.short_mode();
+                multi |= out.afs.len() > 1;
+            }
+            alert_cases.set(alert_cases.get() + usize::from(alert));
+            short_cases.set(short_cases.get() + usize::from(short));
+            multi_cases.set(multi_cases.get() + usize::from(multi));
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    let (a, s, m) = (alert_cases.get(), short_cases.get(), multi_cases.get());
+    println!("cases with an alert {a}, with short mode {s}, with several fields {m}");
+    assert!(
+        a >= 10 && s >= 5 && m >= 5,
+        "too few interesting cases: {a} {s} {m}"
+    );
+}
+
+/// A standing robot's looks (`Params::look_change`, [`Movers`]) on any frames: no panic; none
+/// before the settle and the span have passed, none closer than a span apart, each a column of
+/// the image; none with the look off or while the robot moves.
+#[test]
+fn a_standing_robots_looks_come_no_sooner_than_due_and_inside_the_view() {
+    let looks = Cell::new(0);
+    let mut runner = TestRunner::new(config(64));
+    let result = runner.run(
+        &(sequence(), any::<u8>(), 0usize..60),
+        |(specs, change, moves_at)| {
+            let frames = render(&specs);
+            let mut movers = Movers::new();
+            let mut since: Option<usize> = None;
+            for i in 0..60 {
+                let standing = i != moves_at;
+                let seen = movers.step(&frames[i % frames.len()], standing, change);
+                // frames stood since the robot stopped (or the last look)
+                since = standing.then(|| since.map_or(1, |n| n + 1));
+                let Some(s) = seen else { continue };
+                looks.set(looks.get() + 1);
+                prop_assert!(change > 0, "frame {i}: {s:?} with the look off");
+                let n = since.unwrap_or(0);
+                prop_assert!(
+                    n >= usize::from(SETTLE_FRAMES + SPAN_FRAMES),
+                    "frame {i}: {n}"
+                );
+                if let Sighting::Mover { x } = s {
+                    prop_assert!(usize::from(x) < WIDTH);
+                    prop_assert!(s.bearing_deg().is_some_and(|b| b.abs() < 35.5));
+                }
+                since = Some(usize::from(SETTLE_FRAMES));
+            }
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    assert!(looks.get() >= 20, "too few looks: {}", looks.get());
+}
+
+/// The field capacity holds when the parameters would create fields everywhere: tiny fields,
+/// no spawn threshold, fresh noise each frame. The limit is reached, never passed.
+#[test]
+fn the_field_capacity_is_reached_but_never_exceeded() {
+    let mut runner = TestRunner::new(config(24));
+    let strategy = (
+        1u8..=6,
+        1u8..=4,
+        prop::collection::vec(any::<u64>(), 16..=24),
+    );
+    let result = runner.run(&strategy, |(r, d, seeds)| {
+        let p = Params {
+            table1: TableOne {
+                r_af: r,
+                t_a: 0,
+                t_d: 0,
+                d,
+                ..Params::default().table1
+            },
+            choices: Choices {
+                r_c: r,
+                ..Params::default().choices
+            },
+            ..Params::default()
+        };
+        let mut net = Network::new(p).unwrap();
+        let mut most = 0;
+        for (i, seed) in seeds.into_iter().enumerate() {
+            let out = net.step(
+                &Spec::Noise {
+                    seed,
+                    lo: 0,
+                    hi: 255,
+                }
+                .render(),
+            );
+            check(&p, i, &out, false)?;
+            most = most.max(out.afs.len());
+        }
+        prop_assert_eq!(most, MAX_AFS);
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// Two fresh networks fed the same frames give identical outputs; so do a clone taken midway
+/// and its original, and a network after `reset` compared with a fresh one (up to field ids,
+/// which keep counting across a reset).
+#[test]
+fn the_network_is_deterministic() {
+    let mut runner = TestRunner::new(config(48));
+    let result = runner.run(
+        &(valid_params(), sequence(), sequence()),
+        |(p, first, second)| {
+            let (a, b) = (render(&first), render(&second));
+            let mut n1 = Network::new(p).unwrap();
+            let mut n2 = Network::new(p).unwrap();
+            for f in &a {
+                prop_assert_eq!(n1.step(f), n2.step(f));
+            }
+            let mut n3 = n1.clone();
+            for f in &b {
+                prop_assert_eq!(n1.step(f), n3.step(f));
+            }
+            // field ids stay unique over the whole run, across a reset: compare without them
+            n1.reset();
+            let mut fresh = Network::new(p).unwrap();
+            let anonymous = |mut o: Perception| {
+                o.afs.iter_mut().for_each(|a| a.id = 0);
+                o
+            };
+            for f in a.iter().chain(&b) {
+                prop_assert_eq!(anonymous(n1.step(f)), anonymous(fresh.step(f)));
+            }
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}
+
+/// Regression (found by `outputs_stay_bounded_and_consistent`): with extreme but valid parameters
+/// (`w` 4, `gain` 16, `lm_shift` 0, no quadrant floor) two fields on a flickering checkerboard
+/// both reach `LPLC2 = u32::MAX`; `ΣLPLC2` saturates but the numerator of Eq. (12) does not, so
+/// `X̄` was 70 + 81 = 151, off the retina, and the escape angles followed it.
+#[test]
+fn threat_centroid_survives_saturated_responses() {
+    let p = Params {
+        table1: TableOne {
+            w: 4.0,
+            n: 4,
+            r_af: 10,
+            t_a: 0,
+            t_d: 0,
+            ..Params::default().table1
+        },
+        choices: Choices {
+            gain: 16,
+            lm_shift: 0,
+            s: 2,
+            r_c: 10,
+            q_floor: 0,
+            q_balance: 0,
+            c_d: 1.0,
+            ..Params::default().choices
+        },
+        ..Params::default()
+    };
+    let mut net = Network::new(p).unwrap();
+    for i in 0..12 {
+        // a checkerboard inverting every frame on columns 60..99, mid grey elsewhere
+        let mut f = Spec::Checker {
+            cell: 2,
+            a: 0,
+            b: 255,
+            phase: i % 2 == 1,
+        }
+        .render();
+        for row in f.chunks_mut(WIDTH) {
+            row[..60].fill(128);
+        }
+        let out = net.step(&f);
+        let fields: Vec<(u8, u32)> = out.afs.iter().map(|a| (a.x, a.lplc2)).collect();
+        println!("frame {i}: X̄ {:?}, fields {fields:?}", out.vm.threat_x);
+        if let Some(x) = out.vm.threat_x {
+            assert!((60.0..=98.0).contains(&x), "frame {i}: X̄ {x}, {fields:?}");
+        }
+    }
+}
