@@ -1,5 +1,6 @@
-//! Host tools for ALVS: replay of recorded video through the exact firmware task code,
-//! synthetic demo scenes, and pictures.
+//! Host tools for ALVS (`cargo alvs …`): replay of recorded video through the exact firmware
+//! task code, synthetic demo scenes, the paper's experiments in the simulated world (`alvs_sim`),
+//! the recorded Colias runs they are validated against, and saved RTT sessions read back.
 
 pub mod clip;
 pub mod data;
