@@ -91,21 +91,8 @@ pub struct CommonArgs {
     /// Write the results as JSON (with --shard: the shard file).
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
-    /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
-    /// (what the authors' public firmware runs); it sets both the perception and the motion
-    /// (FSM) parameters. --param and --fsm overrides apply on top.
-    #[arg(long, value_enum, default_value_t = Model::Alvs)]
-    model: Model,
-    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
-    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    params: Vec<String>,
-    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
-    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
-    /// names".
-    #[arg(long = "fsm", value_name = "NAME=VALUE")]
-    fsm: Vec<String>,
+    #[command(flatten)]
+    pub model: ModelOptions,
     #[command(flatten)]
     pub camera: CameraArgs,
 }
@@ -145,7 +132,29 @@ impl CommonArgs {
             trace,
         }
     }
+}
 
+/// The model an experiment runs and its overrides: `--model`, `--param`, `--fsm`.
+#[derive(clap::Args)]
+pub struct ModelOptions {
+    /// The model: alvs (the default: the paper's model plus the closed-loop
+    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
+    /// (what the authors' public firmware runs); it sets both the perception and the motion
+    /// (FSM) parameters. --param and --fsm overrides apply on top.
+    #[arg(long, value_enum, default_value_t = Model::Alvs)]
+    model: Model,
+    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
+    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
+    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
+    /// names".
+    #[arg(long = "fsm", value_name = "NAME=VALUE")]
+    fsm: Vec<String>,
+}
+
+impl ModelOptions {
     /// The model parameters: `--model` with the `--param` overrides.
     pub fn params(&self) -> Result<Params> {
         parse_params(self.model, &self.params)

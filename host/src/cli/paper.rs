@@ -9,9 +9,7 @@ use alvs_sim::Kind;
 use anyhow::Result;
 use clap::ValueEnum;
 
-use super::options::{
-    parse_fsm, parse_params, CameraArgs, CommonArgs, Model, SweepArgs, TrialArgs, WorldArgs,
-};
+use super::options::{CameraArgs, CommonArgs, ModelOptions, SweepArgs, TrialArgs, WorldArgs};
 use super::runner::{Experiment, Outputs};
 
 #[derive(clap::Args)]
@@ -29,8 +27,8 @@ impl Experiment for StimuliArgs {
     fn config(&self) -> Result<Self::Config> {
         Ok(stimuli::StimuliConfig {
             seed: self.common.seed,
-            params: self.common.params()?,
-            fsm: self.common.fsm()?,
+            params: self.common.model.params()?,
+            fsm: self.common.model.fsm()?,
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
@@ -85,8 +83,8 @@ impl Experiment for EvasionArgs {
             speed_mm_s: self.speed,
             controllers: kinds(&self.controllers, &[Kind::Alvs, Kind::Lgmd2]),
             seed: self.common.seed,
-            params: self.common.params()?,
-            fsm: self.common.fsm()?,
+            params: self.common.model.params()?,
+            fsm: self.common.model.fsm()?,
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
@@ -144,8 +142,8 @@ impl Experiment for TwoThreatArgs {
             slow_mm_s: self.slow,
             controllers: kinds(&self.controllers, &[Kind::Alvs, Kind::Lgmd2]),
             seed: self.common.seed,
-            params: self.common.params()?,
-            fsm: self.common.fsm()?,
+            params: self.common.model.params()?,
+            fsm: self.common.model.fsm()?,
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
@@ -205,8 +203,8 @@ impl Experiment for SwarmArgs {
             minutes: self.minutes,
             controllers: kinds(&self.controllers, &[Kind::Swarm, Kind::Alvs]),
             seed: self.common.seed,
-            params: self.common.params()?,
-            fsm: self.common.fsm()?,
+            params: self.common.model.params()?,
+            fsm: self.common.model.fsm()?,
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
@@ -261,21 +259,8 @@ pub struct ArenaArgs {
     /// robot and frame, 28 MB for the default run.
     #[arg(long, value_name = "PATH")]
     trace: Option<PathBuf>,
-    /// The model: alvs (the default: the paper's model plus the closed-loop
-    /// mechanisms that earn their place, docs/model.md), paper (the paper's model exactly) or firmware
-    /// (what the authors' public firmware runs); it sets both the perception and the motion
-    /// (FSM) parameters. --param and --fsm overrides apply on top.
-    #[arg(long, value_enum, default_value_t = Model::Alvs)]
-    model: Model,
-    /// Override an ALVS model parameter, NAME=VALUE (repeatable), e.g. --param t_a=120 or
-    /// --param table1.t_a=120; names and spellings in docs/model.md, "Parameter names".
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    params: Vec<String>,
-    /// Override a motion (FSM) parameter, NAME=VALUE (repeatable), e.g. --fsm settle_frames=6
-    /// or --fsm suppression.settle_frames=6; names and spellings in docs/model.md, "Parameter
-    /// names".
-    #[arg(long = "fsm", value_name = "NAME=VALUE")]
-    fsm: Vec<String>,
+    #[command(flatten)]
+    model: ModelOptions,
     #[command(flatten)]
     camera: CameraArgs,
 }
@@ -295,8 +280,8 @@ impl Experiment for ArenaArgs {
                 self.controllers.iter().map(|c| c.kind()).collect()
             },
             seed: self.seed,
-            params: parse_params(self.model, &self.params)?,
-            fsm: parse_fsm(self.model, &self.fsm)?,
+            params: self.model.params()?,
+            fsm: self.model.fsm()?,
             trace: self.trace.is_some(),
             exposure: self.camera.exposure,
             ..ArenaConfig::default()
