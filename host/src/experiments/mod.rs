@@ -13,14 +13,15 @@
 //! | `tables`: the headline figures of experiments 1–5 in one world over seeds, as docs' markdown | issue 29 | [`tables`] |
 //!
 //! Every experiment runs in a built-in world (`--world`: the recorded arena's replica `fu2019`
-//! by default, or the `lab`; [`BuiltinWorld`]), its walls the world's own unless a background
-//! is given, which replaces them and keeps the rest of the world ([`world_with`]). The staged
-//! experiments (`stimuli`, `evasion`, `two-threats`) stand where their geometry fits
-//! ([`alvs_sim::stage`]); the wandering ones start clear of the walls and obstacles.
+//! by default, or the `lab`; [`alvs_sim::BuiltinWorld`]), its walls the world's own unless a
+//! background is given, which replaces them and keeps the rest of the world
+//! ([`alvs_sim::worlds::world_with`]). The staged experiments (`stimuli`, `evasion`,
+//! `two-threats`) stand where their geometry fits ([`alvs_sim::stage`]); the wandering ones start
+//! clear of the walls and obstacles.
 //!
-//! [`alvs_sim::encounter`] is the open-loop set-up shared by `evasion` and `two-threats`; [`parallel`]
-//! runs independent trials on worker threads; [`sweep`] splits a run into shards (`--shard
-//! I/N`) and pools them again (`alvs merge`).
+//! [`alvs_sim::encounter`] is the open-loop set-up shared by `evasion` and `two-threats`;
+//! [`parallel`] runs independent trials on worker threads; [`sweep`] splits a run into shards
+//! (`--shard I/N`) and pools them again (`alvs merge`).
 
 use std::path::{Path, PathBuf};
 
@@ -81,9 +82,6 @@ pub fn validate_setup(controllers: &[Kind], params: &Params) -> Result<()> {
         .validate()
         .map_err(|e| anyhow::anyhow!("invalid model parameters: {e}"))
 }
-
-pub use alvs_sim::texture::parse as texture;
-pub use alvs_sim::worlds::world_with;
 
 /// The JSON of an experiment: one key per controller (its serialised outcome), plus `config`.
 /// A value that cannot be serialised (never, for these plain structs) becomes `null` rather

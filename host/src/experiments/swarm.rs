@@ -113,7 +113,7 @@ impl SwarmConfig {
             self.minutes
         );
         super::validate_setup(&self.controllers, &self.params)?;
-        Ok(super::world_with(self.world, self.background.as_deref())?.1)
+        Ok(alvs_sim::worlds::world_with(self.world, self.background.as_deref())?.1)
     }
 }
 

@@ -262,7 +262,7 @@ impl AblationConfig {
             Vec::new()
         };
         for w in self.walls.iter().flatten() {
-            super::texture(w)?;
+            alvs_sim::texture::parse(w)?;
         }
         Ok(Prepared {
             paired,

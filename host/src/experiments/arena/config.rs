@@ -107,7 +107,7 @@ impl ArenaConfig {
             .background_specs()
             .into_iter()
             .map(|spec| {
-                let t = crate::experiments::texture(&spec)?;
+                let t = alvs_sim::texture::parse(&spec)?;
                 Ok((spec, t))
             })
             .collect::<Result<Vec<(String, WallTexture)>>>()?;
