@@ -238,7 +238,7 @@ impl Fields {
         if self.list.is_full() || self.list.len() >= usize::from(p.firmware.max_fields) {
             return None;
         }
-        let r = usize::from(p.table1.r_af);
+        let r = usize::from(p.exclusion());
         let mut best = (0u32, 0usize, 0usize);
         // covered columns of a row as half-open intervals, sorted by start (`cov[..k]` is
         // rewritten for every row; kept out of the loop so it is not cleared per row)
@@ -425,7 +425,7 @@ impl Fields {
             for x in 0..WIDTH {
                 let i = y * WIDTH + x;
                 let l = w.saliency(m.on(i), m.off(i));
-                if l > best.0 && !self.covers(x, y, p.table1.r_af) {
+                if l > best.0 && !self.covers(x, y, p.exclusion()) {
                     best = (l, x, y);
                 }
             }
@@ -468,8 +468,9 @@ impl Fields {
         }
     }
 
-    /// Eq. (5): discards fields whose centroid lies inside another standing field.
-    pub fn fuse(&mut self, r_af: u8) {
+    /// Eq. (5): discards fields whose centroid lies inside another standing field's exclusion
+    /// zone of half side `r` ([`Params::exclusion`]).
+    pub fn fuse(&mut self, r: u8) {
         let mut k = self.list.len();
         while k > 0 {
             k -= 1;
@@ -478,7 +479,7 @@ impl Fields {
                 .list
                 .iter()
                 .enumerate()
-                .any(|(j, g)| j != k && g.contains(usize::from(f.x), usize::from(f.y), r_af));
+                .any(|(j, g)| j != k && g.contains(usize::from(f.x), usize::from(f.y), r));
             if inside {
                 self.list.remove(k);
             }
@@ -527,7 +528,7 @@ mod tests {
     use crate::frame::PIXELS;
     use crate::model::param_table::off0;
     use crate::model::params::{Choices, FirmwareVariant, Mechanisms, TableOne};
-    use core::num::NonZeroU32;
+    use core::num::{NonZeroU32, NonZeroU8};
 
     fn p() -> Params {
         Params::default()
@@ -661,6 +662,37 @@ mod tests {
             f.iter().map(|g| g.id).collect::<heapless::Vec<u32, 6>>()[..],
             [0, 2]
         );
+    }
+
+    #[test]
+    fn the_exclusion_zone_sets_where_a_field_is_born_and_which_fuse() {
+        // three salient points 30 columns apart on one row
+        let zero = [0u8; PIXELS];
+        let off = off_map(&[(10, 36, 60), (40, 36, 50), (70, 36, 40)]);
+        let cells = cm(&zero, &off);
+        let maps = Maps::new(&cells);
+        let born = |p: &Params| {
+            let mut f = Fields::default();
+            while f.spawn(&maps, &w(), p).is_some() {}
+            f.iter().map(|g| g.x).collect::<heapless::Vec<u8, 6>>()
+        };
+        // the paper's text: the field's square (R_AF = 36) is its exclusion zone
+        assert_eq!(p().exclusion(), 36);
+        assert_eq!(born(&p())[..], [10, 70]);
+        // a zone of 24 (the authors' multi-field simulator): a field on each point
+        let mut q = p();
+        q.choices.r_x = NonZeroU8::new(24);
+        assert_eq!(q.exclusion(), 24);
+        assert_eq!(born(&q)[..], [10, 40, 70]);
+        let mut f = Fields::default();
+        while f.spawn_reference(&maps, &w(), &q).is_some() {}
+        assert_eq!(f.len(), 3);
+        // Eq. (5) with the same zone: 30 apart stand, 24 apart fuse
+        f.fuse(q.exclusion());
+        assert_eq!(f.len(), 3);
+        f.iter_mut().nth(2).unwrap().x = 64;
+        f.fuse(q.exclusion());
+        assert_eq!(f.len(), 2);
     }
 
     #[test]

@@ -312,7 +312,7 @@ impl Network {
         let t_a = attention::spawn_threshold(changing, &p);
         self.fields.spawn_above(&maps, &self.weights, &p, t_a);
         self.fields.recentre(&maps, &self.weights, &p);
-        self.fields.fuse(p.table1.r_af);
+        self.fields.fuse(p.exclusion());
         mark(Stage::Attention);
 
         // Eqs. (6)–(9) per field, then Eq. (10).

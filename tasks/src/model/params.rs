@@ -73,6 +73,12 @@ param_groups! {
             /// Half side of the window in which a centroid is re-estimated, Eq. (4); at most `R_AF`.
             /// The paper uses the whole field; its authors' simulator uses a window of half `R_AF`.
             r_c: u8 = Range::Int(1, 99),
+            /// Half side of the exclusion zone around a field's centroid: no new field is born
+            /// inside it (Eq. 3), and a field whose centroid enters another's is discarded
+            /// (Eq. 5). `None` (0): `R_AF`, the paper's text, where the field's square is its
+            /// exclusion zone. The authors' multi-field simulator gives it a size of its own
+            /// (`AF_Radius_Exclusive`, `docs/model.md`, "Capacity").
+            r_x: Option<NonZeroU8> = Range::Int(0, 99),
             /// Relative saliency floor of the centroid moments, Eq. (4), in percent of the window's peak:
             /// weaker pixels do not pull the centroid. Unstated; the paper's firmware thresholds its OFF
             /// map before the moments in the same spirit (`docs/model.md`).
@@ -260,6 +266,7 @@ impl Params {
             gain: 4,
             lm_shift: 8,
             r_c: 36,
+            r_x: None,
             c_frac: 50,
             q_floor: 250,
             q_balance: 15,
@@ -364,6 +371,11 @@ impl Params {
         },
         ..Params::PAPER
     };
+
+    /// Half side of a field's exclusion zone, Eqs. (3) and (5): `choices.r_x`, or `R_AF`.
+    pub fn exclusion(&self) -> u8 {
+        self.choices.r_x.map_or(self.table1.r_af, NonZeroU8::get)
+    }
 
     /// The preset these parameters are, `"paper"`, `"alvs"` or `"firmware"`, or `"custom"`.
     pub fn preset_name(&self) -> &'static str {
@@ -798,7 +810,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 35);
+        assert_eq!(Params::NAMES.len(), 36);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));

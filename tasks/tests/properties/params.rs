@@ -74,13 +74,14 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
-    // retirement, its correlator; and the blind arms at the side borders
+    // retirement, its correlator; the blind arms at the side borders; the exclusion zone
     let sixth = (
         prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
         any::<bool>(),
         prop_oneof![3 => Just(true), 1 => Just(false)],
         any::<bool>(),
+        prop_oneof![1 => Just(0u8), 1 => 1u8..=99],
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
@@ -89,7 +90,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
             (band_row, floor_row, short_cols, short_row, look_change),
-            (max_fields, t_lplc2, strict_retire, opponent, border_arms),
+            (max_fields, t_lplc2, strict_retire, opponent, border_arms, r_x),
         )| Params {
             table1: TableOne {
                 w,
@@ -108,6 +109,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 gain,
                 lm_shift,
                 r_c,
+                r_x: NonZeroU8::new(r_x),
                 c_frac,
                 q_floor,
                 q_balance,
