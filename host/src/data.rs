@@ -21,6 +21,12 @@ pub fn clip_path(name: &str) -> PathBuf {
     clips_dir().join(format!("{name}.y8"))
 }
 
+/// The authors' record of their offline model's fields on the two multi-target clips
+/// ([`crate::multi_target::read_authors`]).
+pub fn authors_fields_path() -> PathBuf {
+    dir().join("authors/multi_target_fields.csv")
+}
+
 /// The outdoor photograph `n` (1–3), usable as an arena wall texture.
 pub fn photo_path(n: u8) -> PathBuf {
     dir().join(format!("photos/outdoor_{n}.jpg"))

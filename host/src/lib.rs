@@ -5,6 +5,7 @@
 pub mod clip;
 pub mod data;
 pub mod experiments;
+pub mod multi_target;
 pub mod recordings;
 pub mod replay;
 pub mod rtt_log;

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 
 use super::log::LogArgs;
+use super::multi::MultiArgs;
 use super::paper::{ArenaArgs, EvasionArgs, StimuliArgs, SwarmArgs, TwoThreatArgs};
 use super::recordings::RecordingsCmd;
 use super::replay::{ModelArgs, ReplayArgs};
@@ -83,6 +84,11 @@ pub enum Cmd {
     /// recede, approach, and two and three approach at once; attention-field tracks, LPLC2
     /// traces and layer pictures per scene.
     Stimuli(StimuliArgs),
+    /// Paper Fig. 3 (e)-(f) on recorded video: attention fields over time on the authors' two
+    /// multi-target clips (dark squares expanding at known places and times over a scrolling
+    /// photograph), the paper's model beside the default and beside the fields the authors'
+    /// own offline model kept on the same clips; does each object get a field of its own?
+    MultiTarget(MultiArgs),
     /// Experiment 2 (paper Fig. 4a,c,d): one obstacle robot approaches the standing tested
     /// robot at a constant speed from 9 bearings, -35..35 deg; per bearing, did it escape to
     /// the side away from the obstacle, and did it collide? ALVS and LGMD2 with the same seed.

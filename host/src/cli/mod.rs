@@ -7,12 +7,13 @@
 //!   `--shard` side of it and `alvs merge`;
 //! - one module per group of subcommands: [`paper`] (the paper's five experiments), [`suites`]
 //!   (robustness, ablation), [`validate`], [`tables`], [`replay`] (replay, demo),
-//!   [`recordings`], [`log`], [`cycles`] (budget, virtual);
+//!   [`recordings`], [`log`], [`cycles`] (budget, virtual), [`multi`] (multi-target);
 //! - [`run`](mod@run): which subcommand runs what.
 
 mod args;
 mod cycles;
 mod log;
+mod multi;
 mod options;
 mod paper;
 mod recordings;

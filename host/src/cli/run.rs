@@ -4,7 +4,7 @@ use anyhow::Result;
 
 use super::args::{Cli, Cmd};
 use super::cycles::{cycles_bin, run_cycles_bin};
-use super::{log, recordings, replay, runner, shards, tables, validate};
+use super::{log, multi, recordings, replay, runner, shards, tables, validate};
 
 /// Runs the command `cli` gives.
 pub fn run(cli: Cli) -> Result<()> {
@@ -13,6 +13,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Cmd::Demo { png, model } => replay::run_demo(png, model),
         Cmd::Arena(a) => runner::run(&a),
         Cmd::Stimuli(a) => runner::run(&a),
+        Cmd::MultiTarget(a) => multi::run(a),
         Cmd::Evasion(a) => runner::run(&a),
         Cmd::TwoThreats(a) => runner::run(&a),
         Cmd::Swarm(a) => runner::run(&a),

@@ -588,32 +588,11 @@ fn sits_on((left, right): (f32, f32), column: f32) -> bool {
 
 /// How many of the obstacles (`(left, right)` silhouette columns) can each have a field of
 /// their own among the fields at `columns`: the largest one-to-one matching, a field matching
-/// an obstacle whose silhouette widened by [`LOCALISED_PX`] holds its column (augmenting
-/// paths; a handful of each).
+/// an obstacle whose silhouette widened by [`LOCALISED_PX`] holds its column
+/// ([`crate::multi_target::one_to_one`]).
 pub fn own_fields(obstacles: &[(f32, f32)], columns: &[f32]) -> usize {
     let on = |o: usize, f: usize| sits_on(obstacles[o], columns[f]);
-    // owner[f]: the obstacle field f is matched to
-    let mut owner: Vec<Option<usize>> = vec![None; columns.len()];
-    fn augment(
-        o: usize,
-        seen: &mut [bool],
-        owner: &mut [Option<usize>],
-        on: &dyn Fn(usize, usize) -> bool,
-    ) -> bool {
-        for f in 0..owner.len() {
-            if on(o, f) && !seen[f] {
-                seen[f] = true;
-                if owner[f].is_none_or(|p| augment(p, seen, owner, on)) {
-                    owner[f] = Some(o);
-                    return true;
-                }
-            }
-        }
-        false
-    }
-    (0..obstacles.len())
-        .filter(|&o| augment(o, &mut vec![false; columns.len()], &mut owner, &on))
-        .count()
+    crate::multi_target::one_to_one(obstacles.len(), columns.len(), &on)
 }
 
 fn tracks_plot(s: &SceneResult) -> Plot {
