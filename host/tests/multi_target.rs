@@ -123,3 +123,103 @@ fn an_object_has_a_field_of_its_own_only_one_to_one() {
     let aug = |o: usize, f: usize| f == 0 || o == 0;
     assert_eq!(mt::one_to_one(2, 2, &aug), 2);
 }
+
+mod common;
+use common::{alvs, read_json, succeed, tmp};
+
+#[test]
+fn the_command_compares_both_models_with_the_authors_and_draws() {
+    let d = tmp("multi-target");
+    let out = succeed(
+        alvs()
+            .arg("multi-target")
+            .arg("--clips")
+            .arg(data::clips_dir())
+            .arg("--authors")
+            .arg(data::authors_fields_path())
+            .arg("--png")
+            .arg(d.join("png"))
+            .arg("--json")
+            .arg(d.join("mt.json")),
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let json = read_json(&d.join("mt.json"));
+    let clips = json.as_array().unwrap();
+    assert_eq!(clips.len(), 2);
+    for (c, want) in clips.iter().zip(mt::clips()) {
+        let name = c["clip"]["name"].as_str().unwrap();
+        assert_eq!(name, want.name);
+        let models: Vec<&str> = c["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m[0].as_str().unwrap())
+            .collect();
+        assert_eq!(models, ["paper", "alvs"]);
+        for m in c["models"].as_array().unwrap() {
+            let s = &m[1];
+            assert_eq!(s["fields"].as_array().unwrap().len(), 120);
+            // a field sits on an object only while it is drawn
+            for (first, sq) in s["first_field"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(&want.squares)
+            {
+                if let Some(f) = first.as_u64() {
+                    assert!(
+                        (sq.appear as u64..sq.vanish as u64).contains(&f),
+                        "{name}: {f}"
+                    );
+                }
+            }
+        }
+        for model in ["paper", "alvs", "authors"] {
+            assert!(
+                text.lines()
+                    .any(|l| l.starts_with(name) && l.contains(model)),
+                "{text}"
+            );
+        }
+        assert!(d.join("png").join(format!("{name}_fields.png")).exists());
+    }
+}
+
+#[test]
+fn bad_input_to_the_command_is_one_clear_line() {
+    let d = tmp("multi-target-bad");
+    std::fs::write(d.join("authors.csv"), "clip,field,born,died,x,y\nx,y\n").unwrap();
+    let cases = [
+        (
+            vec!["--clips".to_string(), d.display().to_string()],
+            "no such file",
+        ),
+        (
+            vec![
+                "--clips".to_string(),
+                data::clips_dir().display().to_string(),
+                "--authors".to_string(),
+                d.join("authors.csv").display().to_string(),
+            ],
+            "authors.csv:2: expected 6",
+        ),
+        (
+            vec!["--param".to_string(), "bogus=1".to_string()],
+            "unknown parameter",
+        ),
+    ];
+    for (args, expect) in cases {
+        let out = alvs()
+            .arg("multi-target")
+            .args(&args)
+            .arg("--png")
+            .arg(d.join("png"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}

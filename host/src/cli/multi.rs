@@ -49,31 +49,37 @@ struct ClipReport {
 
 /// Runs `alvs multi-target`.
 pub fn run(a: MultiArgs) -> Result<()> {
-    let models = [("paper", Model::Paper), ("alvs", Model::Alvs)];
+    // every option is checked before the first clip is read
+    let mut models = Vec::new();
+    for (name, m) in [("paper", Model::Paper), ("alvs", Model::Alvs)] {
+        models.push((name, parse_params(m, &a.params)?, parse_fsm(m, &[])?));
+    }
     let mut out = std::io::stdout().lock();
-    writeln!(
-        out,
-        "{:<32} {:<8} {:>7} {:>10} {:>7}  first field on each object (its onset)",
-        "clip", "model", "max AFs", "own (fr)", "alerts"
-    )?;
     let mut reports = Vec::new();
     for c in mt::clips() {
         let path = a.clips.join(format!("{}.y8", c.name));
         let frames = clip::load(&path, WIDTH, HEIGHT)?;
+        let theirs = mt::read_authors(&a.authors, c.name)?;
+        if reports.is_empty() {
+            writeln!(
+                out,
+                "{:<32} {:<8} {:>7} {:>10} {:>7}  first field on each object (its onset)",
+                "clip", "model", "max AFs", "own (fr)", "alerts"
+            )?;
+        }
         let at = mt::busiest_frame(&c, frames.len());
         let mut runs = Vec::new();
-        for (name, m) in models {
+        for &(name, params, fsm) in &models {
             let records = replay::run(
                 &frames,
-                parse_params(m, &a.params)?,
-                parse_fsm(m, &[])?,
+                params,
+                fsm,
                 Behaviour::Escape,
                 Some((&a.png, &[at], &format!("{}_{name}", c.name))),
                 |_| Ok(()),
             )?;
             runs.push((name.to_string(), mt::summarise(&c, &records)));
         }
-        let theirs = mt::read_authors(&a.authors, c.name)?;
         let alive = mt::authors_alive(&theirs, frames.len());
         let onsets = |first: &[Option<u32>]| -> String {
             let cell = |(k, f): (usize, &Option<u32>)| {
