@@ -21,9 +21,10 @@
 //! ```
 //!
 //! (the vertical factor: a point at horizontal distance `r` is imaged at `−f·z/(r·cos θ)`).
-//! The remap is done in place in two separable passes (rows, two at a time, then columns),
-//! each reading the old pixels from a copy of the row or column: `P(t−1)` interpolated between
-//! its two nearest source pixels, the cells (four packed means each) from the nearest one.
+//! The remap is done in place as two separable passes (rows, then columns) fused into one
+//! sweep over the columns, each column's row pass gathered into a copy that its column pass
+//! reads: `P(t−1)` interpolated between its two nearest source pixels, the cells (four packed
+//! means each) from the nearest one.
 //! What came into view has no past: the means and delay line there are 0 and `P(t−1)` takes
 //! the new frame's pixels ([`Retina::push_row`](crate::model::retina::Retina::push_row)), so
 //! new content is not mistaken for motion. The camera sits 19 mm ahead of the wheel axis, so a
@@ -144,14 +145,12 @@ impl Pixel for u32 {
 
 /// No source column.
 pub const OUTSIDE: u16 = u16::MAX;
-const _: () = assert!(((WIDTH - 1) << 8) < OUTSIDE as usize);
-/// Entries of the copies the passes read from, a power of two: an index taken modulo `SPAN`
-/// (one mask) never needs a bounds test, and every index the passes compute is below it (a
-/// row's columns and their neighbour, [`OUTSIDE`]'s `SPAN − 1`; a column's rows, one down,
-/// and what lies outside).
+const _: () = assert!((OUTSIDE >> 8) as usize >= WIDTH);
+/// Entries of the column copy the column pass reads from, a power of two: an index taken
+/// modulo `SPAN` (one mask) never needs a bounds test, and every index the pass computes is
+/// below it (a column's rows, one down, and what lies outside).
 const SPAN: usize = 128;
-const _: () = assert!(SPAN.is_power_of_two() && WIDTH + 1 < SPAN - 1 && HEIGHT + 2 < SPAN);
-const _: () = assert!((OUTSIDE >> 8) as usize % SPAN == SPAN - 1);
+const _: () = assert!(SPAN.is_power_of_two() && HEIGHT + 2 < SPAN);
 
 /// A turn's remap, per new column: where its pixels come from.
 #[derive(Debug, Clone, PartialEq)]
@@ -222,76 +221,70 @@ impl Map {
     /// Re-registers an image of the old frame to the new heading, in place: the row pass, then
     /// the column pass. Pixels with no source take `fill`, or, with `fill = None`, the nearest
     /// pixel of their row or column.
+    ///
+    /// Both passes run column by column in one sweep: column `x` of the row pass is gathered
+    /// into a copy (from the old columns it reads), then the column pass writes the final
+    /// column `x` from that copy. Turning right every source column lies at or right of its
+    /// destination (`x_old ≥ x`), so visiting left to right never reads a column already
+    /// written; turning left, right to left. No row of the row pass is ever stored.
     pub fn remap<T: Pixel>(&self, img: &mut [T; PIXELS], fill: Option<T>) {
         let Ok(img) = <&mut Rows<T>>::try_from(img.as_chunks_mut::<WIDTH>().0) else {
             return;
         };
-        if T::NEAREST {
-            for pair in img.chunks_exact_mut(2) {
-                if let [a, b] = pair {
-                    self.rows_nearest(a, b, fill);
-                }
-            }
-        } else {
-            let mut old = [[img[0][0]; SPAN + 1]; 2];
-            for pair in img.chunks_exact_mut(2) {
-                if let [a, b] = pair {
-                    self.rows_between(a, b, &mut old, fill);
-                }
-            }
-        }
         let mut old: Column<T> = [img[0][0]; SPAN + 2];
-        for (x, &s) in self.scale.iter().enumerate() {
-            column(img, &mut old, x, i32::from(s), fill);
-        }
-    }
-
-    /// The row pass on two rows, their pixels between two source pixels, from copies in `old`
-    /// indexed by the source's whole column modulo [`SPAN`], so no read needs a bounds check.
-    /// Entry `SPAN − 1` ([`OUTSIDE`]) and its neighbour hold what lies outside; the last
-    /// column's neighbour (its fraction is 0) the last column. Two rows a pass: each source
-    /// column is read once for both.
-    fn rows_between<T: Pixel>(
-        &self,
-        a: &mut [T; WIDTH],
-        b: &mut [T; WIDTH],
-        old: &mut [[T; SPAN + 1]; 2],
-        fill: Option<T>,
-    ) {
-        for (old, row) in old.iter_mut().zip([&*a, &*b]) {
-            old[..WIDTH].copy_from_slice(row);
-            old[WIDTH] = row[WIDTH - 1];
-            // without a fill, the nearest column of the old frame: its edge on the side turned
-            // towards
-            let outside = fill.unwrap_or(row[if self.right { WIDTH - 1 } else { 0 }]);
-            old[SPAN - 1] = outside;
-            old[SPAN] = outside;
-        }
-        let [oa, ob] = old;
-        for (x, &c) in self.src.iter().enumerate() {
-            let (i, frac) = (usize::from(c >> 8) % SPAN, u32::from(c & 0xFF));
-            a[x] = T::between(oa[i], oa[i + 1], frac);
-            b[x] = T::between(ob[i], ob[i + 1], frac);
-        }
-    }
-
-    /// The row pass on two rows, each pixel the nearest source pixel, in place. Turning right
-    /// every source column lies right of its destination (`x_old > x`), so visiting left to
-    /// right never reads a pixel already written; turning left, right to left.
-    fn rows_nearest<T: Pixel>(&self, a: &mut [T; WIDTH], b: &mut [T; WIDTH], fill: Option<T>) {
-        // without a fill, the nearest column of the old frame: its edge on the side turned
-        // towards (the last one written)
-        let edge = if self.right { WIDTH - 1 } else { 0 };
-        let (out_a, out_b) = (fill.unwrap_or(a[edge]), fill.unwrap_or(b[edge]));
         let mut one = |x: usize| {
-            let i = usize::from(self.near[x]);
-            a[x] = a.get(i).copied().unwrap_or(out_a);
-            b[x] = b.get(i).copied().unwrap_or(out_b);
+            self.row_pass(img, &mut old, x, fill);
+            old[0] = fill.unwrap_or(old[1]);
+            old[HEIGHT + 1] = fill.unwrap_or(old[HEIGHT]);
+            let s = self.scale.get(x).map_or(4096, |&s| i32::from(s));
+            column(img, &old, x, s);
         };
         if self.right {
             (0..WIDTH).for_each(&mut one);
         } else {
             (0..WIDTH).rev().for_each(one);
+        }
+    }
+
+    /// Column `x` of the row pass into `old[1..=HEIGHT]` (row `y` at `[y + 1]`), read from the
+    /// old image: between the two source columns around `src[x]`, or the nearest `near[x]`.
+    /// What lies outside is `fill`, or without one the old frame's edge column on the side
+    /// turned towards (the last one visited).
+    fn row_pass<T: Pixel>(&self, img: &Rows<T>, old: &mut Column<T>, x: usize, fill: Option<T>) {
+        let (Some(&c), Some(&near)) = (self.src.get(x), self.near.get(x)) else {
+            return;
+        };
+        let Some(col) = old.get_mut(1..=HEIGHT) else {
+            return;
+        };
+        let (i, frac) = if T::NEAREST {
+            (usize::from(near), 0)
+        } else {
+            (usize::from(c >> 8), u32::from(c & 0xFF))
+        };
+        if i >= WIDTH {
+            match fill {
+                Some(v) => col.fill(v),
+                None => copy_column(img, col, if self.right { WIDTH - 1 } else { 0 }),
+            }
+        } else if frac == 0 {
+            copy_column(img, col, i);
+        } else {
+            // a fraction only below the last column (`src ≤ (WIDTH − 1)·256`)
+            let j = (i + 1).min(WIDTH - 1);
+            for (o, row) in col.iter_mut().zip(img.iter()) {
+                *o = T::between(row[i], row[j], frac);
+            }
+        }
+    }
+}
+
+/// Column `i` of `img` into `col`.
+#[inline(always)]
+fn copy_column<T: Pixel>(img: &Rows<T>, col: &mut [T], i: usize) {
+    if i < WIDTH {
+        for (o, row) in col.iter_mut().zip(img.iter()) {
+            *o = row[i];
         }
     }
 }
@@ -310,35 +303,34 @@ const HALF: i32 = (HALF_ROWS as i32) << 8;
 type Column<T> = [T; SPAN + 2];
 
 /// The column pass on column `x` with vertical factor `s` (Q12): new row `y` takes old row
-/// `c_y + (y − c_y)·s` (Q8, between its two neighbours), read from a copy of the column in
-/// `old` (only its entries `0..=HEIGHT + 1` are written), so the order the rows are written in
-/// does not matter. Each half takes only its own rows: a source within half a pixel of the
-/// image takes the edge row, one beyond it what lies outside (`fill`, or without one the edge
-/// row), one across the centre line the half's own row next to it. Rows whose source lies
-/// less than [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) stay as they are.
+/// `c_y + (y − c_y)·s` (Q8, between its two neighbours), read from the row pass's column in
+/// `old` ([`Column`], its entries `0..=HEIGHT + 1` filled), so the order the rows are written
+/// in does not matter. Each half takes only its own rows: a source within half a pixel of the
+/// image takes the edge row, one beyond it what lies outside (`old[0]`, `old[HEIGHT + 1]`), one
+/// across the centre line the half's own row next to it. Rows whose source lies less than
+/// [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) take their own row of `old`.
 ///
 /// The source rises with `y`, so each half's rows fall into runs in that order (outside, edge,
 /// between two rows, edge); their bounds are computed once, and no pixel is clamped.
-fn column<T: Pixel>(img: &mut Rows<T>, old: &mut Column<T>, x: usize, s_q12: i32, fill: Option<T>) {
-    let ds = (s_q12 - 4096).unsigned_abs();
-    if ds == 0 || x >= WIDTH {
+fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, s_q12: i32) {
+    if x >= WIDTH {
         return;
     }
+    let ds = (s_q12 - 4096).unsigned_abs();
     // the source offset of a row at distance d = |2y − 2c_y| from the centre line is
     // d·|s − 1|/2 pixels = d·ds >> 5 in Q8; the odd distances d from `first` to 71 are the
     // rows that move: the `n` rows of each half farthest from the centre line
-    let first = (T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1;
-    let Some(n) = usize::try_from(first / 2)
-        .ok()
+    let n = (ds != 0)
+        .then(|| (T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1)
+        .and_then(|first| usize::try_from(first / 2).ok())
         .and_then(|k| HALF_ROWS.checked_sub(k))
-    else {
-        return;
-    };
-    for (o, row) in old[1..].iter_mut().zip(img.iter()) {
-        *o = row[x];
+        .unwrap_or(0);
+    for (r, &o) in img[n..HEIGHT - n].iter_mut().zip(&old[n + 1..]) {
+        r[x] = o;
     }
-    old[0] = fill.unwrap_or(img[0][x]);
-    old[HEIGHT + 1] = fill.unwrap_or(img[HEIGHT - 1][x]);
+    if n == 0 {
+        return;
+    }
     // row y's source, Q8 · 32: CY2·4096 + (2y − CY2)·s, rising by 2s a row
     let step = 2 * s_q12;
     let q = (CY2 << 12) - CY2 * s_q12;
@@ -435,6 +427,31 @@ mod tests {
     }
 
     #[test]
+    fn no_column_reads_a_column_visited_before_it() {
+        // the one sweep of `remap` writes column x after reading the source columns of its
+        // row pass: turning right (visited left to right) they must lie at or right of x,
+        // turning left at or left of it (a second column only with a fraction)
+        for i in -3000..=3000 {
+            let deg = i as f32 / 100.0;
+            let m = Map::new(&Turn::new(deg).unwrap());
+            for x in 0..WIDTH {
+                let c = m.src[x];
+                if c == OUTSIDE {
+                    assert_eq!(m.near[x], u8::MAX);
+                    continue;
+                }
+                let (i, frac, near) = (usize::from(c >> 8), c & 0xFF, usize::from(m.near[x]));
+                let last = if frac == 0 { i } else { i + 1 };
+                if m.right {
+                    assert!(i >= x && near >= x, "turn {deg}, column {x}");
+                } else {
+                    assert!(last <= x && near <= x, "turn {deg}, column {x}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn the_outermost_columns_lie_at_half_the_field_of_view() {
         let edge = libm::atanf(CX / FOCAL_PX).to_degrees();
         assert!((2.0 * edge - HFOV_DEG).abs() < 1e-3, "{edge}");
@@ -478,7 +495,11 @@ mod tests {
             for (y, row) in img.iter_mut().enumerate() {
                 row[7] = make(y);
             }
-            column(&mut img, &mut [make(0); SPAN + 2], 7, s, Some(make(255)));
+            let mut old = [make(255); SPAN + 2];
+            for (o, row) in old[1..].iter_mut().zip(img.iter()) {
+                *o = row[7];
+            }
+            column(&mut img, &old, 7, s);
             for (y, row) in img.iter().enumerate() {
                 let d = 2 * y as i32 - CY2;
                 let q = (d * s + (CY2 << 12)) >> 5;
