@@ -136,6 +136,11 @@ const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 /// grey drifts with distance (a dark floor seen at a grazing angle brightens towards the
 /// horizon) and with its pattern, while an obstacle's foot is a step.
 fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
+    // as rows, and `x` checked once: no bounds test per pixel of the column
+    let rows = frame.as_chunks::<WIDTH>().0;
+    if x >= WIDTH {
+        return None;
+    }
     let last = top + 1 - FOOT_ROWS;
     let (mut grey, mut run) = (floor, 0);
     // the cover (differing rows, rows) of the run's last candidate foot
@@ -143,7 +148,10 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
     let mut y = HEIGHT;
     while y > last.max(BELOW_HORIZON) {
         y -= 1;
-        let p = i32::from(frame[y * WIDTH + x]);
+        let Some(row) = rows.get(y) else {
+            break;
+        };
+        let p = i32::from(row[x]);
         if (p - grey).abs() <= FLOOR_TOL {
             grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
             run = 0;
@@ -157,7 +165,7 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
             // foot, a row of the run: one differing row fewer; no second scan of the column
             let (hits, rows) = match cover {
                 Some((hits, rows)) => (hits - 1, rows - 1),
-                None => column_cover(frame, grey, x, foot),
+                None => column_cover(rows, grey, x, foot),
             };
             cover = Some((hits, rows));
             if 100 * hits >= FOOT_COVER_PCT * rows {
@@ -171,16 +179,18 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
 /// Of column `x`'s rows from `foot` up to the row below the horizon, how many differ from the
 /// floor's grey there, `grey`, and how many there are: covered when the first is at least
 /// [`FOOT_COVER_PCT`] % of the second.
-fn column_cover(frame: &[u8; PIXELS], grey: i32, x: usize, foot: usize) -> (usize, usize) {
-    let rows = (foot + 1).saturating_sub(BELOW_HORIZON);
-    let column = frame[BELOW_HORIZON * WIDTH + x..]
-        .iter()
-        .step_by(WIDTH)
-        .take(rows);
-    let hits = column
-        .filter(|&&p| (i32::from(p) - grey).abs() > FLOOR_TOL)
-        .count();
-    (hits, rows)
+fn column_cover(rows: &[[u8; WIDTH]], grey: i32, x: usize, foot: usize) -> (usize, usize) {
+    let column = rows.get(BELOW_HORIZON..=foot).unwrap_or_default();
+    // `x` checked once for the whole column
+    let hits = if x < WIDTH {
+        column
+            .iter()
+            .filter(|r| (i32::from(r[x]) - grey).abs() > FLOOR_TOL)
+            .count()
+    } else {
+        0
+    };
+    (hits, (foot + 1).saturating_sub(BELOW_HORIZON))
 }
 
 /// Median grey of [`FLOOR_SAMPLE`] bottom-row pixels spread over its middle 40 columns.
@@ -358,7 +368,7 @@ mod tests {
             }
             run += 1;
             let foot = y + FOOT_ROWS - 1;
-            let (hits, rows) = column_cover(frame, grey, x, foot);
+            let (hits, rows) = column_cover(frame.as_chunks().0, grey, x, foot);
             if run >= FOOT_ROWS && 100 * hits >= FOOT_COVER_PCT * rows {
                 return Some(foot);
             }
