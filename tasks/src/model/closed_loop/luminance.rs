@@ -36,10 +36,13 @@ pub const SAMPLE_STEP: usize = 4;
 /// [`CHANGE_LEVEL`] (bytes 0 and 1 of each cell), and how many were sampled.
 pub fn changing(cells: &Cells) -> (u32, u32, u32) {
     let sampled = cells.len().div_ceil(SAMPLE_STEP) as u32;
-    let (on, off) = cells
+    // the first cell of each chunk (`step_by` compiled to a slower loop)
+    let (chunks, rest) = cells.as_chunks::<SAMPLE_STEP>();
+    let (on, off) = chunks
         .iter()
-        .step_by(SAMPLE_STEP)
-        .fold((0u32, 0u32), |(on, off), &c| {
+        .map(|c| c[0])
+        .chain(rest.first().copied())
+        .fold((0u32, 0u32), |(on, off), c| {
             (
                 on + u32::from(c & 0xFF >= CHANGE_LEVEL),
                 off + u32::from((c >> 8) & 0xFF >= CHANGE_LEVEL),
