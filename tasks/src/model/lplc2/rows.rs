@@ -389,31 +389,41 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
     for y in y_lo..y_hi {
         // the segments some field needs on this row, and the vertical directions
-        // bit 0: r, bit 1: l (left of some field's centroid)
+        // bit 0: r, bit 1: l (left of some field's centroid), bit 2: d (some field below its
+        // centroid)
         let mut need = [0u8; MAX_BP];
         let (mut up, mut down) = (false, false);
-        let (mut ua, mut ub) = (WIDTH, 0);
+        // the columns of the fields above their centroid (u) and of those below it (d)
+        let (mut cols_u, mut cols_d) = ((WIDTH, 0), (WIDTH, 0));
         for &(y0, y1, cy, c) in fields {
             if (y0..y1).contains(&y) && y != cy {
-                up |= y < cy;
-                down |= y > cy;
-                need[c[0]..c[1]].iter_mut().for_each(|m| *m |= 2);
-                need[c[2]..c[3]].iter_mut().for_each(|m| *m |= 1);
-                (ua, ub) = (ua.min(bp[c[0]]), ub.max(bp[c[3]]));
+                let below = y > cy;
+                up |= !below;
+                down |= below;
+                let d = if below { 4 } else { 0 };
+                need[c[0]..c[1]].iter_mut().for_each(|m| *m |= 2 | d);
+                need[c[2]..c[3]].iter_mut().for_each(|m| *m |= 1 | d);
+                let cols = if below { &mut cols_d } else { &mut cols_u };
+                *cols = (cols.0.min(bp[c[0]]), cols.1.max(bp[c[3]]));
             }
         }
         if !(up || down) {
             continue;
         }
+        let (ua, ub) = (cols_u.0.min(cols_d.0), cols_u.1.max(cols_d.1));
         let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
-        // own values on p0..p1, vertical sums (up if the row has an upward field) on ua..ub
-        pack_row(&mut row, m, y, p0, ua);
+        // own values on p0..p1; the primary vertical sums (u if the row has an upward field,
+        // else d) only under the fields of that direction, va..vb: the other columns keep an
+        // earlier row's sums, and their local motion enters only segments that no field of
+        // the primary direction sums
+        let (va, vb) = if up { cols_u } else { cols_d };
+        pack_row(&mut row, m, y, p0, va);
         if up {
-            columns::<true>(&mut row, m, y, n, ua, ub);
+            columns::<true>(&mut row, m, y, n, va, vb);
         } else {
-            columns::<false>(&mut row, m, y, n, ua, ub);
+            columns::<false>(&mut row, m, y, n, va, vb);
         }
-        pack_row(&mut row, m, y, ub, p1);
+        pack_row(&mut row, m, y, vb, p1);
         let a = u32::try_from(nw.a).unwrap_or(0);
         let b = u32::try_from(nw.b).unwrap_or(0);
         let shift = nw.shift;
@@ -428,7 +438,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
             let mut acc = [0u32; 4];
             for i in 0..bp.len().saturating_sub(1) {
                 let (s, e) = (bp[i], bp[i + 1]);
-                let sums = match need[i] {
+                let sums = match need[i] & 3 {
                     0 => None,
                     1 => Some(seg_n::<true, false>(&ctx, n, s, e)),
                     2 => Some(seg_n::<false, true>(&ctx, n, s, e)),
@@ -451,7 +461,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
             };
             let mut acc = 0u32;
             for i in 0..bp.len().saturating_sub(1) {
-                if need[i] != 0 {
+                if need[i] & 4 != 0 {
                     acc = acc.wrapping_add(seg_down_n(&ctx, m, y, n, bp[i], bp[i + 1]));
                 }
                 pre[i + 1][3] = acc;
