@@ -8,7 +8,8 @@
 //! (the host: replay, simulator, tests) it is the plain Rust below. The two are held equal bit
 //! for bit by the cycle model's budget test, which runs the firmware build on every frame and
 //! compares its outputs with the host build's (`cycles/tests/budget.rs`), and the plain forms
-//! are checked here against their definitions.
+//! are checked here against their definitions. The FPU's square root (`VSQRT.F32`) is here too:
+//! on the firmware `libm::sqrtf` is a software routine.
 //!
 //! This is the only `unsafe` in the model: single register-to-register instructions, no memory,
 //! no stack (`asm!` options `pure, nomem, nostack`). Those that may set the APSR's Q or GE flags
@@ -256,6 +257,36 @@ pub fn uxtab16_ror8(acc: u32, x: u32) -> u32 {
     #[cfg(not(target_arch = "arm"))]
     {
         lanes_add(acc, (x >> 8) & 0x00FF_00FF)
+    }
+}
+
+/// `VSQRT.F32`: the square root, one FPU instruction (14 cycles) where `libm::sqrtf` is a
+/// software routine of ≈ 50 instructions on the firmware. Both round correctly (IEEE 754 asks
+/// it of a square root), so the results are the same bit for bit.
+#[inline(always)]
+pub fn sqrtf(x: f32) -> f32 {
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+    {
+        // The FPU's register classes in `asm!` need the unstable `vfp2` target feature, so
+        // the value passes through a core register and S15 is saved and restored around it.
+        let r: u32;
+        // SAFETY: register-only instructions of the Cortex-M4F's FPU (the hard-float targets
+        // have it); S15 leaves as it came.
+        unsafe {
+            core::arch::asm!(
+                "vmov {t}, s15",
+                "vmov s15, {x}",
+                "vsqrt.f32 s15, s15",
+                "vmov {r}, s15",
+                "vmov s15, {t}",
+                t = out(reg) _, x = in(reg) x.to_bits(), r = lateout(reg) r,
+                options(pure, nomem, nostack));
+        }
+        f32::from_bits(r)
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    {
+        libm::sqrtf(x)
     }
 }
 

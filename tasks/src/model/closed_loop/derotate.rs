@@ -31,6 +31,7 @@
 //! turn also moves it sideways by a few mm; that parallax is not predicted.
 
 use crate::frame::{CENTRE_X as CX, HEIGHT, PIXELS, WIDTH};
+use crate::model::dsp;
 
 /// Horizontal field of view between the centres of the outermost columns, degrees
 /// (`docs/hardware.md`: the OV7670 lens's ≈ 70° on the 99-column window).
@@ -86,7 +87,7 @@ impl Turn {
             1e3
         };
         let nx = (CX + FOCAL_PX * t).clamp(0.0, (WIDTH - 1) as f32);
-        let s = libm::sqrtf((1.0 + t * t) / (1.0 + to * to));
+        let s = dsp::sqrtf((1.0 + t * t) / (1.0 + to * to));
         let cy = CY2 as f32 / 2.0;
         let ny = (cy + (f32::from(y) - cy) * s).clamp(0.0, (HEIGHT - 1) as f32);
         (libm::roundf(nx) as u8, libm::roundf(ny) as u8)
@@ -180,7 +181,7 @@ impl Map {
             };
             let t = (x as f32 - CX) / FOCAL_PX;
             // ≤ 1/cos(35° + 30°) < 2.4 inside the limits; bounded anyway
-            let s = libm::sqrtf((1.0 + to * to) / (1.0 + t * t)).clamp(0.25, 4.0);
+            let s = dsp::sqrtf((1.0 + to * to) / (1.0 + t * t)).clamp(0.25, 4.0);
             m.scale[x] = (s * 4096.0) as u16;
             let q = (CX + FOCAL_PX * to) * 256.0;
             if (0.0..=((WIDTH - 1) * 256) as f32).contains(&q) {
