@@ -14,7 +14,7 @@ use alvs_sim::{BuiltinWorld, Kind, World};
 use serde_json::Value;
 
 mod common;
-use common::{alvs, read_json, succeed, tmp};
+use common::{alvs, fails_in_one_line, read_json, succeed, tmp};
 
 /// 0.5 simulated minutes: 900 camera frames per robot.
 fn short_config() -> ArenaConfig {
@@ -583,18 +583,6 @@ fn bad_arguments_are_one_clear_line_and_a_failure() {
         (&["--minutes", "2000", "--trace", "t.csv"], "--trace"),
     ];
     for (args, expect) in cases {
-        let out = alvs()
-            .arg("arena")
-            .args(args)
-            .arg("--png")
-            .arg(&d)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        assert!(err.contains(expect), "{args:?}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-        assert!(!err.contains("panicked"), "{args:?}: {err}");
-        assert!(out.stdout.is_empty(), "{args:?}");
+        fails_in_one_line(alvs().arg("arena").args(args).arg("--png").arg(&d), expect);
     }
 }

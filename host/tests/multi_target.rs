@@ -6,6 +6,9 @@ use alvs_host::multi_target as mt;
 use alvs_host::replay::{AfJson, FrameJson};
 use alvs_host::{clip, data};
 
+mod common;
+use common::{alvs, fails_in_one_line, read_json, succeed, tmp};
+
 fn frames(name: &str) -> Vec<alvs_tasks::Frame> {
     clip::load(&data::clip_path(name), 99, 72).expect("clip")
 }
@@ -124,9 +127,6 @@ fn an_object_has_a_field_of_its_own_only_one_to_one() {
     assert_eq!(mt::one_to_one(2, 2, &aug), 2);
 }
 
-mod common;
-use common::{alvs, read_json, succeed, tmp};
-
 #[test]
 fn the_command_compares_both_models_with_the_authors_and_draws() {
     let d = tmp("multi-target");
@@ -209,17 +209,10 @@ fn bad_input_to_the_command_is_one_clear_line() {
         ),
     ];
     for (args, expect) in cases {
-        let out = alvs()
-            .arg("multi-target")
-            .args(&args)
-            .arg("--png")
-            .arg(d.join("png"))
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        assert!(err.contains(expect), "{args:?}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-        assert!(out.stdout.is_empty(), "{args:?}");
+        let png = d.join("png");
+        fails_in_one_line(
+            alvs().arg("multi-target").args(&args).arg("--png").arg(png),
+            expect,
+        );
     }
 }

@@ -5,7 +5,7 @@ use alvs_host::clip::to_pgm;
 use alvs_host::scenes::demo_scenes;
 
 mod common;
-use common::{alvs, succeed, tmp};
+use common::{alvs, fails_in_one_line, succeed, tmp};
 
 #[test]
 fn replay_prints_one_json_object_per_frame_and_draws() {
@@ -118,12 +118,7 @@ fn bad_input_is_one_clear_line_and_a_failure() {
         ),
     ];
     for (args, expect) in cases {
-        let out = alvs().arg("replay").args(&args).output().unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        assert!(err.contains(expect), "{args:?}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-        assert!(out.stdout.is_empty());
+        fails_in_one_line(alvs().arg("replay").args(&args), expect);
     }
 }
 

@@ -31,6 +31,19 @@ pub fn succeed(cmd: &mut Command) -> Output {
     out
 }
 
+/// Runs `cmd`, which must fail with one line on stderr containing `expect` (no panic) and
+/// nothing on stdout: how every subcommand refuses bad input. Returns that line.
+pub fn fails_in_one_line(cmd: &mut Command, expect: &str) -> String {
+    let out = cmd.output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "{cmd:?} succeeded");
+    assert!(err.contains(expect), "{cmd:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{cmd:?}: {err}");
+    assert!(!err.contains("panicked"), "{cmd:?}: {err}");
+    assert!(out.stdout.is_empty(), "{cmd:?}");
+    err
+}
+
 /// The JSON document in `path`.
 pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
