@@ -61,11 +61,8 @@ pub fn run(a: MultiArgs) -> Result<()> {
         let frames = clip::load(&path, WIDTH, HEIGHT)?;
         let theirs = mt::read_authors(&a.authors, c.name)?;
         if reports.is_empty() {
-            writeln!(
-                out,
-                "{:<32} {:<8} {:>7} {:>10} {:>7}  first field on each object (its onset)",
-                "clip", "model", "max AFs", "own (fr)", "alerts"
-            )?;
+            let head = ["clip", "model", "max AFs", "own (fr)", "alerts"];
+            row(&mut out, head, "first field on each object (its onset)")?;
         }
         let at = mt::busiest_frame(&c, frames.len());
         let mut runs = Vec::new();
@@ -94,31 +91,18 @@ pub fn run(a: MultiArgs) -> Result<()> {
                 .join(", ")
         };
         for (name, s) in &runs {
-            writeln!(
-                out,
-                "{:<32} {:<8} {:>7} {:>10} {:>7}  {}",
-                c.name,
-                name,
-                s.max_fields,
-                format!("{}/{}", s.own_all_frames, s.object_frames),
-                s.alert_frames,
-                onsets(&s.first_field)
-            )?;
+            let most = s.max_fields.to_string();
+            let own = format!("{}/{}", s.own_all_frames, s.object_frames);
+            let alerts = s.alert_frames.to_string();
+            let cells = [c.name, name, &most, &own, &alerts];
+            row(&mut out, cells, &onsets(&s.first_field))?;
         }
         let authors_first = mt::authors_first_field(&c, &theirs);
-        let max = alive
+        let most = alive
             .as_ref()
             .map_or("-".into(), |v| v.iter().max().unwrap_or(&0).to_string());
-        writeln!(
-            out,
-            "{:<32} {:<8} {:>7} {:>10} {:>7}  {}",
-            c.name,
-            "authors",
-            max,
-            "-",
-            "-",
-            onsets(&authors_first)
-        )?;
+        let cells = [c.name, "authors", &most, "-", "-"];
+        row(&mut out, cells, &onsets(&authors_first))?;
         let summaries: Vec<(&str, &Summary)> = runs.iter().map(|(n, s)| (n.as_str(), s)).collect();
         let picture = a.png.join(format!("{}_fields.png", c.name));
         mt::fields_plot(&c, &summaries, alive.as_deref())
@@ -143,5 +127,18 @@ pub fn run(a: MultiArgs) -> Result<()> {
         serde_json::to_writer_pretty(f, &reports)?;
         writeln!(out, "JSON in {}", p.display())?;
     }
+    Ok(())
+}
+
+/// One line of the table: clip, model, most fields, own frames, alerts, then `first`.
+fn row(
+    out: &mut impl Write,
+    [clip, model, most, own, alerts]: [&str; 5],
+    first: &str,
+) -> Result<()> {
+    writeln!(
+        out,
+        "{clip:<32} {model:<8} {most:>7} {own:>10} {alerts:>7}  {first}"
+    )?;
     Ok(())
 }
