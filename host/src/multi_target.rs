@@ -28,6 +28,11 @@ const MAX_SIDE: f32 = 80.0;
 /// side sits on it (as `stimuli`' `LOCALISED_PX`).
 pub const ON_OBJECT_PX: f32 = 3.0;
 
+/// Source pixels (x, y) on the 99 x 72 retina: the clips were scaled down whole.
+fn retina((x, y): (f32, f32)) -> (f32, f32) {
+    (x * (WIDTH as f32 / SOURCE.0), y * (HEIGHT as f32 / SOURCE.1))
+}
+
 /// One drawn object: a square growing from `centre`, present in frames `appear..vanish`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Square {
@@ -50,9 +55,8 @@ impl Square {
         if side == 0.0 {
             return None;
         }
-        let (sx, sy) = (WIDTH as f32 / SOURCE.0, HEIGHT as f32 / SOURCE.1);
-        let (cx, cy) = (self.centre.0 * sx, self.centre.1 * sy);
-        let (hx, hy) = (side / 2.0 * sx, side / 2.0 * sy);
+        let (cx, cy) = retina(self.centre);
+        let (hx, hy) = retina((side / 2.0, side / 2.0));
         Some((cx - hx, cx + hx, cy - hy, cy + hy))
     }
 
@@ -231,13 +235,15 @@ pub fn summarise(clip: &MultiClip, records: &[FrameJson]) -> Summary {
 /// Per object, the first frame one of the authors' fields was born on it (their fields stay
 /// where they are born).
 pub fn authors_first_field(clip: &MultiClip, fields: &[AuthorsField]) -> Vec<Option<u32>> {
-    let (sx, sy) = (WIDTH as f32 / SOURCE.0, HEIGHT as f32 / SOURCE.1);
     clip.squares
         .iter()
         .map(|s| {
             fields
                 .iter()
-                .filter(|f| s.holds(f.born, f.at.0 * sx, f.at.1 * sy))
+                .filter(|f| {
+                    let (x, y) = retina(f.at);
+                    s.holds(f.born, x, y)
+                })
                 .map(|f| f.born)
                 .min()
         })
