@@ -30,7 +30,10 @@ pub const ON_OBJECT_PX: f32 = 3.0;
 
 /// Source pixels (x, y) on the 99 x 72 retina: the clips were scaled down whole.
 fn retina((x, y): (f32, f32)) -> (f32, f32) {
-    (x * (WIDTH as f32 / SOURCE.0), y * (HEIGHT as f32 / SOURCE.1))
+    (
+        x * (WIDTH as f32 / SOURCE.0),
+        y * (HEIGHT as f32 / SOURCE.1),
+    )
 }
 
 /// One drawn object: a square growing from `centre`, present in frames `appear..vanish`.
