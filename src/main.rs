@@ -178,12 +178,13 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, derotate {}, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blind border arms {} while standing, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, jump {} frames from standing, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, noise frames below {} % neighbour correlation, derotate {}, gate {} of 4 arms (growing {} %), T_a {} in a quiet scene, blind border arms {} while standing, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, jump {} frames from standing, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
             alvs_tasks::Params::ALVS.table1.t_a,
             alvs_tasks::Params::ALVS.table1.t_d,
             alvs_tasks::Params::ALVS.table1.t_s,
             off0(alvs_tasks::Params::ALVS.mechanisms.warmup),
             off0(alvs_tasks::Params::ALVS.mechanisms.flicker_pct),
+            off0(alvs_tasks::Params::ALVS.mechanisms.noise_pct),
             u8::from(alvs_tasks::Params::ALVS.efference.derotate),
             alvs_tasks::Params::ALVS.choices.q_arms,
             off0(alvs_tasks::Params::ALVS.mechanisms.q_grow_pct),

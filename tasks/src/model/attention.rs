@@ -41,7 +41,7 @@ pub const BUSY_PCT: u32 = 10;
 /// as photoreceptor and lamina gain rise in a quiet, low-contrast scene). `T_a` when the
 /// mechanism is off (0) or not below `T_a`.
 pub fn spawn_threshold((on, off, sampled): (u32, u32, u32), p: &Params) -> u32 {
-    let quiet = crate::model::param_table::off0(p.mechanisms.t_a_quiet);
+    let quiet = u32::from(crate::model::param_table::off0(p.mechanisms.t_a_quiet));
     let t_a = u32::from(p.table1.t_a);
     if quiet == 0 || quiet >= t_a {
         return t_a;
@@ -528,7 +528,7 @@ mod tests {
     use crate::frame::PIXELS;
     use crate::model::param_table::off0;
     use crate::model::params::{Choices, FirmwareVariant, Mechanisms, TableOne};
-    use core::num::{NonZeroU32, NonZeroU8};
+    use core::num::{NonZeroU16, NonZeroU8};
 
     fn p() -> Params {
         Params::default()
@@ -555,7 +555,7 @@ mod tests {
         for quiet in [0, 100, 500] {
             let q = Params {
                 mechanisms: Mechanisms {
-                    t_a_quiet: NonZeroU32::new(quiet),
+                    t_a_quiet: NonZeroU16::new(quiet),
                     ..p.mechanisms
                 },
                 ..p

@@ -17,6 +17,7 @@ use crate::model::attention::{self, Fields};
 use crate::model::closed_loop::derotate::Turn;
 use crate::model::closed_loop::floor;
 use crate::model::closed_loop::luminance;
+use crate::model::closed_loop::noise_frames;
 use crate::model::closed_loop::progress;
 use crate::model::hrc::{LmScale, Maps};
 use crate::model::lplc2::{self, Lplc2};
@@ -102,6 +103,8 @@ pub struct Network {
     adapted: f32,
     /// The efference copy of forward motion for the next frame (`Network::driving`).
     driving: bool,
+    /// The last frame was noise (`Params::noise_pct`): this one is measured against it.
+    after_noise: bool,
 }
 
 impl Network {
@@ -117,6 +120,7 @@ impl Network {
             fields: Fields::default(),
             adapted: 0.0,
             driving: false,
+            after_noise: false,
         })
     }
 
@@ -144,6 +148,7 @@ impl Network {
             fields: Fields::new(),
             adapted: 0.0,
             driving: false,
+            after_noise: false,
         }
     }
 
@@ -163,6 +168,7 @@ impl Network {
         self.retina.reset();
         self.fields.clear();
         self.adapted = 0.0;
+        self.after_noise = false;
     }
 
     /// The parameters in use.
@@ -291,6 +297,15 @@ impl Network {
         };
         let index = self.frames;
         self.frames = self.frames.saturating_add(1);
+        // `Params::noise_pct`: this frame, and the next one measured against it, show no image;
+        // their change leaves the delay line, so later frames are not correlated with it
+        let noise = self.params.mechanisms.noise_pct.is_some_and(|pct| {
+            noise_frames::is_noise(&noise_frames::grain(self.retina.prev()), pct.get())
+        });
+        let after_noise = core::mem::replace(&mut self.after_noise, noise);
+        if noise || after_noise {
+            self.retina.forget_change();
+        }
         mark(Stage::Retina);
         if !primed {
             return Ok(Perception {
@@ -364,11 +379,14 @@ impl Network {
                 *muted = true;
             }
         }
-        // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`): while the history
-        // fills after a (re)start, and on a whole-field luminance event, no field is stimulated
-        // (and the floor line says nothing either).
+        // Closed-loop mechanisms (`Params::warmup`, `Params::flicker_pct`, `Params::noise_pct`):
+        // while the history fills after a (re)start, on a whole-field luminance event, and on
+        // a noise frame and the frame after it, no field is stimulated (and the floor line says
+        // nothing either).
         let silent = index < u32::from(off0(p.mechanisms.warmup))
-            || luminance::is_event_of(changing, off0(p.mechanisms.flicker_pct));
+            || luminance::is_event_of(changing, off0(p.mechanisms.flicker_pct))
+            || noise
+            || after_noise;
         if silent {
             for l in lplc.iter_mut() {
                 l.response = 0;

@@ -7,7 +7,7 @@
 //! (`derotate`) is accepted too, the spelling of the flat lists before the groups (field names
 //! are unique across the groups).
 
-use core::num::{NonZeroU32, NonZeroU8};
+use core::num::{NonZeroU16, NonZeroU32, NonZeroU8};
 
 /// The values a parameter may take.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -122,7 +122,7 @@ macro_rules! off_value {
         }
     )*};
 }
-off_value!(NonZeroU8: u8, NonZeroU32: u32);
+off_value!(NonZeroU8: u8, NonZeroU16: u16, NonZeroU32: u32);
 
 /// A count that may be absent: `none` or `off` is `None`, 0 a count like any other.
 impl Value for Option<u32> {
@@ -301,6 +301,13 @@ impl OffZero for Option<NonZeroU8> {
     type Number = u8;
     fn off0(self) -> u8 {
         self.map_or(0, NonZeroU8::get)
+    }
+}
+
+impl OffZero for Option<NonZeroU16> {
+    type Number = u16;
+    fn off0(self) -> u16 {
+        self.map_or(0, NonZeroU16::get)
     }
 }
 

@@ -3,7 +3,7 @@
 //! grouped by what they are; one declaration gives each its name (`group.field`, or the field
 //! alone), type, range and setter ([`crate::model::param_table`]).
 
-use core::num::{NonZeroU32, NonZeroU8};
+use core::num::{NonZeroU16, NonZeroU32, NonZeroU8};
 
 use crate::frame::HEIGHT;
 use crate::model::param_table::{param_groups, write_list, Refusal};
@@ -108,6 +108,14 @@ param_groups! {
             /// stimulated in that frame. `None` (0) turns it off (the paper). See `docs/model.md`,
             /// "Closed-loop mechanisms".
             flicker_pct: Option<NonZeroU8> = Range::Int(0, 100),
+            /// Noise frames: when neighbouring pixels correlate below this percent both along the
+            /// rows and down the columns (and differ by more than the sensor's grain), the frame
+            /// is no picture a lens could make (a corrupted transfer, interference), and no field
+            /// is reported stimulated in it or in the frame after, which is measured against it
+            /// ([`crate::model::closed_loop::noise_frames`]). The recorded clips measure 55 % and
+            /// more, random pixels 0. `None` (0) turns it off (the paper). See `docs/model.md`,
+            /// "Closed-loop mechanisms".
+            noise_pct: Option<NonZeroU8> = Range::Int(0, 100),
             /// Growth of a partial opening: when fewer than four quadrants are excited (an opening
             /// that `q_arms` < 4 allows), the field's quadrant sum must also have grown by at least
             /// this many percent since the last frame, at the same place
@@ -120,7 +128,7 @@ param_groups! {
             /// a small object's faint edges can open a field when little else moves, while a scene
             /// full of motion keeps Table I's `T_a`. `None` (0) turns it off (the paper). See `docs/model.md`,
             /// "Closed-loop mechanisms".
-            t_a_quiet: Option<NonZeroU32> = Range::Int(0, u32::MAX as i64),
+            t_a_quiet: Option<NonZeroU16> = Range::Int(0, u16::MAX as i64),
             /// Arms cut off by the camera's side borders: the 70° view ends at the retina's first
             /// and last columns, so for a field centred within `R_AF / 2` of one, most of the two
             /// quadrants on that side lie outside the picture, blind rather than silent. An object
@@ -275,6 +283,7 @@ impl Params {
         mechanisms: Mechanisms {
             warmup: None,
             flicker_pct: None,
+            noise_pct: None,
             q_grow_pct: None,
             t_a_quiet: None,
             border_arms: false,
@@ -312,8 +321,9 @@ impl Params {
         mechanisms: Mechanisms {
             warmup: NonZeroU8::new(4),
             flicker_pct: NonZeroU8::new(50),
+            noise_pct: NonZeroU8::new(25),
             q_grow_pct: NonZeroU8::new(50),
-            t_a_quiet: NonZeroU32::new(30),
+            t_a_quiet: NonZeroU16::new(30),
             border_arms: true,
         },
         efference: Efference {
@@ -810,7 +820,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 36);
+        assert_eq!(Params::NAMES.len(), 37);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));
@@ -833,7 +843,8 @@ mod tests {
     #[test]
     fn the_groups_cost_no_ram() {
         // the flat struct before the groups took 64 bytes; each group pads to its alignment,
-        // and `T_a`, `T_d` as `u16`s leave Table I's group none
+        // and `T_a`, `T_d` as `u16`s leave Table I's group none; `t_a_quiet`, which acts only
+        // below `T_a`, is a `u16` too, so `noise_pct` fits the mechanisms' group
         assert_eq!(core::mem::size_of::<Params>(), 64);
     }
 }

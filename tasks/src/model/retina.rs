@@ -208,6 +208,14 @@ impl Retina {
         };
     }
 
+    /// Sets the means and their delayed copies to "no change", keeping `P(t−1)`: nothing of a
+    /// frame that was no image (`Params::noise_pct`) stays in the delay line to be correlated
+    /// with the frames after it.
+    pub fn forget_change(&mut self) {
+        // in place: a 28 KB temporary would not fit the firmware's stack
+        self.cells.fill(0);
+    }
+
     /// The newest ON/OFF means (`t`) and their delayed copies, as the correlators read them.
     pub fn maps(&self) -> Maps<'_> {
         Maps::new(&self.cells)

@@ -7,7 +7,7 @@ use alvs_tasks::model::closed_loop::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::closed_loop::floor::nearest_foot;
 use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
 use alvs_tasks::model::network::DRIVING_MM_S;
-use alvs_tasks::model::params::{Choices, TableOne};
+use alvs_tasks::model::params::{Choices, Mechanisms, TableOne};
 use std::cell::Cell;
 
 /// Turns reported between frames (`Network::turned`): mostly what a robot turns in a frame,
@@ -122,7 +122,8 @@ fn a_standing_robots_looks_come_no_sooner_than_due_and_inside_the_view() {
 }
 
 /// The field capacity holds when the parameters would create fields everywhere: tiny fields,
-/// no spawn threshold, fresh noise each frame. The limit is reached, never passed.
+/// no spawn threshold, fresh noise each frame (with `noise_pct` off, which would see those
+/// frames as no image and leave nothing salient). The limit is reached, never passed.
 #[test]
 fn the_field_capacity_is_reached_but_never_exceeded() {
     let mut runner = TestRunner::new(config(24));
@@ -143,6 +144,10 @@ fn the_field_capacity_is_reached_but_never_exceeded() {
             choices: Choices {
                 r_c: r,
                 ..Params::default().choices
+            },
+            mechanisms: Mechanisms {
+                noise_pct: None,
+                ..Params::default().mechanisms
             },
             ..Params::default()
         };

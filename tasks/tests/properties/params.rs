@@ -5,7 +5,7 @@ use alvs_tasks::model::params::{
     Choices, Efference, FirmwareVariant, Mechanisms, ShortGates, SwarmLook, TableOne,
 };
 use alvs_tasks::model::params::{MAX_D, MAX_N, MAX_REACH};
-use core::num::{NonZeroU32, NonZeroU8};
+use core::num::{NonZeroU16, NonZeroU32, NonZeroU8};
 
 /// A threshold: small values (where things happen) or any `u32`.
 fn threshold() -> impl Strategy<Value = u32> {
@@ -62,16 +62,17 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=1,
         prop_oneof![3 => Just(0u8), 1 => any::<u8>()],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
-        prop_oneof![1 => Just(0u32), 1 => threshold()],
+        prop_oneof![1 => Just(0u16), 1 => threshold16()],
     );
     // the efference copy of forward motion's band, the floor line, the path's columns, the
-    // foot's row of an imminent threat
+    // foot's row of an imminent threat, the swarm's look, noise frames
     let fifth = (
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=49],
         prop_oneof![1 => Just(0u8), 1 => 0u8..=71],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
+        0u8..=100,
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
     // retirement, its correlator; the blind arms at the side borders; the exclusion zone
@@ -89,7 +90,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
             (w_s, alpha, t_s, c_d, s, gain),
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
-            (band_row, floor_row, short_cols, short_row, look_change),
+            (band_row, floor_row, short_cols, short_row, look_change, noise_pct),
             (max_fields, t_lplc2, strict_retire, opponent, border_arms, r_x),
         )| Params {
             table1: TableOne {
@@ -118,8 +119,9 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
             mechanisms: Mechanisms {
                 warmup: NonZeroU8::new(warmup),
                 flicker_pct: NonZeroU8::new(flicker_pct),
+                noise_pct: NonZeroU8::new(noise_pct),
                 q_grow_pct: NonZeroU8::new(q_grow_pct),
-                t_a_quiet: NonZeroU32::new(t_a_quiet),
+                t_a_quiet: NonZeroU16::new(t_a_quiet),
                 border_arms,
             },
             efference: Efference {

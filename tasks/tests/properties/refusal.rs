@@ -235,6 +235,7 @@ fn params_set_accepts_only_valid_text() {
             ("q_arms", 1, 4),
             ("warmup", 0, 255),
             ("flicker_pct", 0, 100),
+            ("noise_pct", 0, 100),
             ("blocked_change", 0, 255),
         ] {
             let r = p.set(name, &format!(" {v} "));

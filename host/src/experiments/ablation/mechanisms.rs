@@ -100,7 +100,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 18] = [
+pub const MECHANISMS: [Mechanism; 19] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -114,6 +114,13 @@ pub const MECHANISMS: [Mechanism; 18] = [
         fields: "flicker_pct",
         escape: true,
         copy: |m, s| m.params.mechanisms.flicker_pct = s.params.mechanisms.flicker_pct,
+    },
+    Mechanism {
+        name: "noise",
+        what: "a frame of random pixels is no image (nor the frame after)",
+        fields: "noise_pct",
+        escape: true,
+        copy: |m, s| m.params.mechanisms.noise_pct = s.params.mechanisms.noise_pct,
     },
     Mechanism {
         name: "blocked",
@@ -404,8 +411,8 @@ mod tests {
         for v in Variant::all() {
             assert_eq!(Variant::from_name(&v.name()), Ok(v));
         }
-        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(9)));
-        assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(2)));
+        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(10)));
+        assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(3)));
         let e = Variant::from_name("alvs-wings").unwrap_err();
         assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");
         assert!(Variant::from_name("paper+").is_err());

@@ -5,6 +5,7 @@
 //! | mechanism | module | reads |
 //! |---|---|---|
 //! | whole-field luminance events (exposure steps, flicker) | [`luminance`] | the retina's input |
+//! | noise frames: pictures no lens could make (a corrupted transfer) | [`noise_frames`] | the frame |
 //! | efference copy of turns: the retina's memory re-registered after a commanded turn | [`derotate`] | the motor command |
 //! | efference copy of forward travel: the blocked-way view | [`progress`] | the motor command |
 //! | the floor line: an obstacle's distance from its foot | [`floor`] | the frame |
@@ -14,4 +15,5 @@ pub mod derotate;
 pub mod floor;
 pub mod luminance;
 pub mod movers;
+pub mod noise_frames;
 pub mod progress;
