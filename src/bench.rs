@@ -89,14 +89,15 @@ pub unsafe extern "C" fn alvs_bench_step(
 }
 
 /// Built-in frames of the self-test (`alvs_tasks::robot::self_test`): two unrelated
-/// full-contrast noise frames (every pixel changes, every part of the retina salient). In flash,
+/// frames of random black and white 3x3 blocks (half the retina changes, every part of it
+/// salient). In flash,
 /// so reading them costs wait states a camera row in SRAM does not: the board's figure is an
 /// upper bound. Exported by name so that the cycle model runs the self-test on these very bytes
 /// (`cargo alvs budget --boot`).
 #[no_mangle]
 pub static ALVS_BENCH_FRAMES: [Frame; 2] = [
-    self_test::noise(self_test::SEEDS[0]),
-    self_test::noise(self_test::SEEDS[1]),
+    self_test::blocks(self_test::SEEDS[0]),
+    self_test::blocks(self_test::SEEDS[1]),
 ];
 
 /// Runs the bench entry on the built-in frames with `network` (then reset: the real run
