@@ -392,20 +392,9 @@ pub fn worst_cases() -> Vec<Scene> {
     const N: usize = 30;
     let w = alvs_tasks::WIDTH;
     let mut s = 0x1234_5678u32;
+    // the boot self-test's frames ([`self_test::blocks`]), a new seed every frame
     let blocks = (0..N)
-        .map(|_| {
-            // one draw per 3x3 block, rows of blocks left to right
-            let draws: Vec<u8> = (0..w.div_ceil(3) * alvs_tasks::HEIGHT.div_ceil(3))
-                .map(|_| {
-                    if xorshift(&mut s) & 0x100 != 0 {
-                        255
-                    } else {
-                        0
-                    }
-                })
-                .collect();
-            std::array::from_fn(|i| draws[(i / w / 3) * w.div_ceil(3) + (i % w) / 3])
-        })
+        .map(|_| self_test::blocks(xorshift(&mut s)))
         .collect();
     let looms: Vec<Frame> = (0..N)
         .map(|t| {
