@@ -299,8 +299,9 @@ fn burst(frames: &[Frame], at: usize, n: usize, amp: i32, seed: u64) -> Vec<Fram
 /// 176; and bursts of 1 or 3 noise frames (±32, ±255) from the priming frame to frame 12
 /// (the warm-up ends at 4) into a still textured scene, a square driving across and a
 /// drifting grating. None alerts: each noise frame, and the frame measured against it, is
-/// silenced and leaves nothing in the delay line (`Params::noise_pct`). Before that mechanism every noise scene alerted on 56 of 60
-/// frames, in short mode; the paper's model still does (below).
+/// silenced and leaves nothing in the delay line (`Params::noise_pct`). Before that mechanism
+/// every noise scene alerted on 56 of 60 frames, in short mode; the paper's model still does
+/// (below).
 #[test]
 fn random_noise_frames_never_alert() {
     let mut scenes = Vec::new();

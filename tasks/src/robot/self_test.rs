@@ -219,8 +219,8 @@ mod tests {
         assert!(a.iter().chain(&b).all(|&p| p == 0 || p == 255));
         let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
         assert!(differ > PIXELS * 2 / 5, "{differ}");
-        let pct = crate::Params::ALVS.mechanisms.noise_pct.map(|p| p.get());
-        assert!(!is_noise(&grain(&a), pct.unwrap()) && !is_noise(&grain(&b), pct.unwrap()));
+        let pct = crate::model::param_table::off0(crate::Params::ALVS.mechanisms.noise_pct);
+        assert!(pct > 0 && !is_noise(&grain(&a), pct) && !is_noise(&grain(&b), pct));
     }
 
     proptest! {

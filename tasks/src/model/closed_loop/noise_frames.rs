@@ -2,15 +2,15 @@
 //! mechanisms", with its measured effect).
 //!
 //! A picture that came through a lens has neighbouring pixels alike: the optics blur, the
-//! OV7670 averages its photosites down to 99x72, and the world is made of surfaces. On the
-//! recorded clips the correlation of neighbouring pixels never falls below 0.55 along both the
-//! rows and the columns at once (the helmet clip); a frame of independent random pixels measures 0 ± 0.05. Such a
-//! frame is not an image of anything (a corrupted transfer, interference, a sensor fault), yet
-//! every pixel of it changes and the correlators of Eq. (6) find "motion" in every direction
-//! in every quadrant, so Eq. (9)'s gate opens. The frame after it is measured against it and
-//! is as meaningless. This detector reports such frames so that the network stimulates no
-//! field on them, as it does for a whole-field luminance event
-//! ([`crate::model::closed_loop::luminance`]).
+//! OV7670 averages its photosites down to 99x72, and the world is made of surfaces. On every
+//! frame of the recorded clips the correlation of neighbouring pixels is 0.55 or more along
+//! the rows or down the columns (the lowest: the helmet clip); a frame of independent random
+//! pixels measures 0 ± 0.05 in both. Such a frame is not an image of anything (a corrupted
+//! transfer, interference, a sensor fault), yet every pixel of it changes and the correlators
+//! of Eq. (6) find "motion" in every direction in every quadrant, so Eq. (9)'s gate opens. The
+//! frame after it is measured against it and is as meaningless. This detector reports such
+//! frames so that the network stimulates no field on them, as it does for a whole-field
+//! luminance event ([`crate::model::closed_loop::luminance`]).
 
 use crate::frame::{Frame, HEIGHT, WIDTH};
 
