@@ -284,6 +284,47 @@ fn a_floor_pattern_changes_the_floor_only_and_fades_with_distance() {
     assert!(far < near / 2.0, "far rows {far} against near {near}");
 }
 
+/// The floor line (`floor_row`) on the textured floor: of the replica's poses (a 12 × 6 grid,
+/// 12 headings, clear of the obstacles, three floor seeds), the grain makes it find a foot
+/// where the plain floor shows none on at most 2 % of them (13 % before its tolerance followed
+/// the grain and a foot had to step from the floor below it:
+/// docs/notes/2026-11-28-floor-grain.md), and hides a foot the plain floor shows on at most 1 %.
+#[test]
+fn the_floor_line_finds_few_feet_in_a_floor_grain_and_hides_few() {
+    use alvs_host::experiments::robustness::Perturbation;
+    use alvs_tasks::model::closed_loop::floor::obstacle_ahead;
+    let world = BuiltinWorld::Fu2019.world();
+    let (sx, sy) = (world.arena.size_x_mm, world.arena.size_y_mm);
+    let plain = Renderer::with_options(&world, &RenderOptions::default());
+    let (mut poses, mut added, mut hidden) = (0, 0, 0);
+    for seed in 1..=3 {
+        let mut options = SimOptions::default();
+        Perturbation::FloorTexture.apply(seed, &mut MotorParams::default(), &mut options);
+        let grained = Renderer::with_options(&world, &options.render);
+        for (i, j) in (0..12).flat_map(|i| (0..6).map(move |j| (i, j))) {
+            let (x, y) = (sx * (i as f64 + 0.5) / 12.0, sy * (j as f64 + 0.5) / 6.0);
+            if world::static_distance(&world.arena, &world.obstacles, x, y) < 30.0 {
+                continue;
+            }
+            for h in 0..12 {
+                let eye = Pose::new(x, y, f64::from(h) * 30.0);
+                let a = obstacle_ahead(&plain.render(&[eye], 0), 52).is_some();
+                let b = obstacle_ahead(&grained.render(&[eye], 0), 52).is_some();
+                poses += 1;
+                added += usize::from(b && !a);
+                hidden += usize::from(a && !b);
+            }
+        }
+    }
+    println!("{added} feet added and {hidden} hidden by the grain, of {poses} poses");
+    assert!(poses > 2000, "{poses} poses");
+    assert!(50 * added <= poses, "{added} feet added of {poses} poses");
+    assert!(
+        100 * hidden <= poses,
+        "{hidden} feet hidden of {poses} poses"
+    );
+}
+
 /// The lighting gradient brightens what stands near `x = 0` and darkens what stands near the
 /// far end, by its gain there; the lab above the walls keeps its grey.
 #[test]

@@ -5,8 +5,11 @@
 //! floor `Z` ahead of the camera images `f·h/Z` rows below the horizon: the row where an
 //! obstacle meets the floor is its distance. A wall or robot close ahead has its foot low in
 //! the image, a far one near the horizon. In each column the foot is the lowest run of
-//! [`FOOT_ROWS`] rows that differ from the floor's grey by more than [`FLOOR_TOL`]; the floor's
-//! grey is the median of [`FLOOR_SAMPLE`] pixels of the bottom row's middle 40 columns. Only columns inside
+//! [`FOOT_ROWS`] rows that differ from the floor's grey by more than the tolerance and step
+//! away from the floor row below them by as much; the floor's grey is the median of
+//! [`FLOOR_SAMPLE`] pixels of the bottom row's middle 40 columns, the tolerance [`FLOOR_TOL`]
+//! or, on a floor with a grain of its own, three standard deviations of that grain
+//! ([`Floor::of`]). Only columns inside
 //! the robot's path count: `|h·(x − 49)/(row − 35.5)|`, the lateral offset of the foot, within
 //! [`PATH_HALF_WIDTH_MM`]. Integer arithmetic, one pass over the lower half of the frame.
 //!
@@ -26,7 +29,10 @@
 //! higher), so its image covers the floor from its foot up to the horizon, while a mark on a
 //! patterned floor is a patch of the floor itself. A foot counts only when at least
 //! [`FOOT_COVER_PCT`] % of its column's rows from the foot up to the horizon differ from the
-//! floor's grey (the robustness suite's textured floor, `docs/robustness.md`).
+//! floor's grey (the robustness suite's textured floor, `docs/robustness.md`). Two more things
+//! keep a grain on the floor from reading as feet: the tolerance grows with the grain measured
+//! on the nearest floor, and a foot is a step from the floor just below it, where a drifting
+//! grain is not (`docs/notes/2026-11-28-floor-grain.md`).
 
 use crate::frame::{HEIGHT, PIXELS, WIDTH};
 
@@ -40,11 +46,18 @@ pub const BODY_RADIUS_MM: i32 = 21;
 /// tuning seeds 1–5 the radius did as well as one diameter (42) and 30, and drove faster
 /// (docs/ablation.md, "The new default").
 pub const PATH_HALF_WIDTH_MM: i32 = BODY_RADIUS_MM;
-/// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2).
+/// Grey levels by which an obstacle's foot differs from the floor (the camera noise is 2): the
+/// least tolerance; a floor with a grain of its own raises it ([`Floor::of`]).
 pub const FLOOR_TOL: i32 = 12;
+/// Rows of the nearest floor, each [`GRAIN_COLS`] wide, sampled for the floor's grain.
+const GRAIN_ROWS: [usize; 4] = [HEIGHT - 8, HEIGHT - 6, HEIGHT - 4, HEIGHT - 2];
+/// Columns of the grain sample: 9, 19, …, 89.
+const GRAIN_COLS: usize = 9;
+/// Pixels in the grain sample.
+const GRAIN_SAMPLES: usize = GRAIN_ROWS.len() * GRAIN_COLS;
 /// Grey levels by which the floor's grey may follow the floor from one row to the next: the
 /// replica's dark floor brightens by 1–3 levels a row towards the horizon, a pattern on it by a
-/// few more; an obstacle's foot steps by more than [`FLOOR_TOL`] at once.
+/// few more; an obstacle's foot steps by more than the tolerance at once.
 pub const FLOOR_TRACK: i32 = 2;
 /// Consecutive rows, bottom up, that must differ from the floor.
 pub const FOOT_ROWS: usize = 2;
@@ -55,6 +68,54 @@ pub const FOOT_ROWS: usize = 2;
 pub const FOOT_COVER_PCT: usize = 50;
 /// Bottom-row pixels, 10 columns apart around the centre, whose median is the floor's grey.
 pub const FLOOR_SAMPLE: usize = 5;
+
+/// The floor as one frame shows it: its grey at the bottom row and the tolerance by which a
+/// foot must differ from it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Floor {
+    /// The bottom row's grey ([`FLOOR_SAMPLE`] pixels' median).
+    pub grey: i32,
+    /// Grey levels a foot must differ by: [`FLOOR_TOL`], or three standard deviations of the
+    /// floor's grain if that is more.
+    pub tol: i32,
+}
+
+impl Floor {
+    /// The floor's grey, and its grain on the nearest floor: [`GRAIN_SAMPLES`] pixels of
+    /// [`GRAIN_ROWS`], 10 columns apart. Their median absolute deviation from the grey, times
+    /// 1.4826, estimates the grain's standard deviation robustly (a few odd pixels move it
+    /// little); three of them (4.45 · MAD) is the tolerance, as a Gaussian grain stays
+    /// within 3 σ but for 0.3 % of its pixels. Pixels that differ from the grey by more than
+    /// twice [`FLOOR_TOL`] are an obstacle close ahead, not floor, and are left out; with
+    /// fewer than half the sample left the tolerance is [`FLOOR_TOL`]. On a plain floor the
+    /// sensor's noise (2 levels) keeps it at [`FLOOR_TOL`].
+    pub fn of(frame: &[u8; PIXELS]) -> Floor {
+        let grey = floor_grey(frame);
+        // how many of the sample deviate from the grey by 0, 1, …, 2·FLOOR_TOL levels
+        let mut count = [0u8; 2 * FLOOR_TOL as usize + 1];
+        let mut n = 0;
+        for y in GRAIN_ROWS {
+            for k in 0..GRAIN_COLS {
+                let d = (i32::from(frame[y * WIDTH + 9 + 10 * k]) - grey).unsigned_abs();
+                if let Some(c) = count.get_mut(d as usize) {
+                    *c += 1;
+                    n += 1;
+                }
+            }
+        }
+        // the median deviation: the least `d` with more than half the kept sample at or below it
+        let mut below = 0;
+        let mad = count.iter().position(|&c| {
+            below += usize::from(c);
+            2 * below > n
+        });
+        let tol = match mad {
+            Some(mad) if 2 * n >= GRAIN_SAMPLES => FLOOR_TOL.max(89 * mad as i32 / 20),
+            _ => FLOOR_TOL,
+        };
+        Floor { grey, tol }
+    }
+}
 
 /// Twice the horizon row (35.5), so that row offsets stay integers.
 const HORIZON_X2: i32 = HEIGHT as i32 - 1;
@@ -72,7 +133,7 @@ pub fn obstacle_ahead(frame: &[u8; PIXELS], near_row: u8) -> Option<u8> {
     if 2 * near as i32 <= HORIZON_X2 || near >= HEIGHT {
         return None;
     }
-    let floor = floor_grey(frame);
+    let floor = Floor::of(frame);
     // (row, column sum, columns) of the lowest feet and of those one row above them
     let (mut low, mut above) = ((0usize, 0usize, 0usize), (0usize, 0usize, 0usize));
     for x in 0..WIDTH {
@@ -97,7 +158,7 @@ pub fn obstacle_ahead(frame: &[u8; PIXELS], near_row: u8) -> Option<u8> {
 /// run of [`FOOT_ROWS`] rows that differ from `floor`, scanning up from the bottom only as far
 /// as the path reaches in this column (the lateral offset `h·(x − 49)/(row − 35.5)` of a foot
 /// grows as it rises towards the horizon).
-fn foot(frame: &[u8; PIXELS], floor: i32, x: usize, near: usize) -> Option<usize> {
+fn foot(frame: &[u8; PIXELS], floor: Floor, x: usize, near: usize) -> Option<usize> {
     // in the path: |2h·(x − 49)| ≤ PATH_HALF_WIDTH_MM·(2·row − 71)
     let offset = (2 * CAMERA_HEIGHT_MM * (x as i32 - (WIDTH as i32 - 1) / 2)).unsigned_abs();
     let width = PATH_HALF_WIDTH_MM as u32;
@@ -119,7 +180,7 @@ pub fn nearest_foot(frame: &[u8; PIXELS], x: u8) -> Option<u8> {
     if x >= WIDTH {
         return None;
     }
-    let floor = floor_grey(frame);
+    let floor = Floor::of(frame);
     (x.saturating_sub(FOOT_SEARCH_COLS)..(x + FOOT_SEARCH_COLS + 1).min(WIDTH))
         .filter_map(|c| foot_below(frame, floor, c, BELOW_HORIZON))
         .max()
@@ -130,19 +191,23 @@ pub fn nearest_foot(frame: &[u8; PIXELS], x: u8) -> Option<u8> {
 const BELOW_HORIZON: usize = HORIZON_X2 as usize / 2 + 1;
 
 /// The foot of column `x` at or below row `top` (≥ [`FOOT_ROWS`] − 1): scanning up from the
-/// bottom, the lowest run of [`FOOT_ROWS`] rows that differ from the floor's grey whose column
-/// above is covered up to the horizon ([`FOOT_COVER_PCT`]). The floor's grey starts at `floor`
-/// and follows the floor up the column, by at most [`FLOOR_TRACK`] levels a row: a floor's
-/// grey drifts with distance (a dark floor seen at a grazing angle brightens towards the
-/// horizon) and with its pattern, while an obstacle's foot is a step.
-fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
+/// bottom, the lowest run of [`FOOT_ROWS`] rows that differ from the floor's grey by more than
+/// `floor.tol`, whose top row also differs by as much from the last row taken for floor below
+/// the run, and whose column above is covered up to the horizon ([`FOOT_COVER_PCT`]). The
+/// floor's grey starts at `floor.grey` and follows the floor up the column, by at most
+/// [`FLOOR_TRACK`] levels a row: a floor's grey drifts with distance (a dark floor seen at a
+/// grazing angle brightens towards the horizon) and with its pattern, while an obstacle's
+/// foot is a step, from the floor just below it as well as from the followed grey.
+fn foot_below(frame: &[u8; PIXELS], floor: Floor, x: usize, top: usize) -> Option<usize> {
     // as rows, and `x` checked once: no bounds test per pixel of the column
     let rows = frame.as_chunks::<WIDTH>().0;
     if x >= WIDTH {
         return None;
     }
     let last = top + 1 - FOOT_ROWS;
-    let (mut grey, mut run) = (floor, 0);
+    let (mut grey, mut run) = (floor.grey, 0);
+    // the last row taken for floor: a foot steps away from it, a drifting grain does not
+    let mut below = floor.grey;
     // the cover (differing rows, rows) of the run's last candidate foot
     let mut cover: Option<(usize, usize)> = None;
     let mut y = HEIGHT;
@@ -152,8 +217,9 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
             break;
         };
         let p = i32::from(row[x]);
-        if (p - grey).abs() <= FLOOR_TOL {
+        if (p - grey).abs() <= floor.tol {
             grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
+            below = p;
             run = 0;
             cover = None;
             continue;
@@ -161,15 +227,18 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
         run += 1;
         if run >= FOOT_ROWS {
             let foot = y + FOOT_ROWS - 1;
+            let stepped = (p - below).abs() > floor.tol;
             // within a run the floor's grey holds, and the candidate one row up drops the old
             // foot, a row of the run: one differing row fewer; no second scan of the column
-            let (hits, rows) = match cover {
-                Some((hits, rows)) => (hits - 1, rows - 1),
-                None => column_cover(rows, grey, x, foot),
+            cover = match cover {
+                Some((hits, rows)) => Some((hits - 1, rows - 1)),
+                None if stepped => Some(column_cover(rows, grey, floor.tol, x, foot)),
+                None => None,
             };
-            cover = Some((hits, rows));
-            if 100 * hits >= FOOT_COVER_PCT * rows {
-                return Some(foot);
+            if let (true, Some((hits, rows))) = (stepped, cover) {
+                if 100 * hits >= FOOT_COVER_PCT * rows {
+                    return Some(foot);
+                }
             }
         }
     }
@@ -179,13 +248,19 @@ fn foot_below(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<
 /// Of column `x`'s rows from `foot` up to the row below the horizon, how many differ from the
 /// floor's grey there, `grey`, and how many there are: covered when the first is at least
 /// [`FOOT_COVER_PCT`] % of the second.
-fn column_cover(rows: &[[u8; WIDTH]], grey: i32, x: usize, foot: usize) -> (usize, usize) {
+fn column_cover(
+    rows: &[[u8; WIDTH]],
+    grey: i32,
+    tol: i32,
+    x: usize,
+    foot: usize,
+) -> (usize, usize) {
     let column = rows.get(BELOW_HORIZON..=foot).unwrap_or_default();
     // `x` checked once for the whole column
     let hits = if x < WIDTH {
         column
             .iter()
-            .filter(|r| (i32::from(r[x]) - grey).abs() > FLOOR_TOL)
+            .filter(|r| (i32::from(r[x]) - grey).abs() > tol)
             .count()
     } else {
         0
@@ -208,6 +283,7 @@ fn floor_grey(frame: &[u8; PIXELS]) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    extern crate std;
 
     const FLOOR: u8 = 110;
 
@@ -353,23 +429,91 @@ mod tests {
         assert_eq!(obstacle_ahead(&f, 52), None);
     }
 
+    #[test]
+    fn a_drift_up_the_column_is_not_a_foot_and_a_step_is() {
+        // the floor brightens by 5 levels a row for five rows, then stays 25 above its grey up
+        // to the horizon: it leaves the follower (2 a row) behind, but never steps
+        let mut f = scene(0, 0..0, 0);
+        for y in 36..=60 {
+            let grey = FLOOR + 5 * (61 - y).min(5) as u8;
+            f[y * WIDTH..(y + 1) * WIDTH].fill(grey);
+        }
+        assert_eq!(Floor::of(&f).tol, FLOOR_TOL);
+        assert_eq!(obstacle_ahead(&f, 52), None);
+        assert_eq!(nearest_foot(&f, 49), None);
+        // the same rise at once is a foot
+        for y in 56..=60 {
+            f[y * WIDTH..(y + 1) * WIDTH].fill(FLOOR + 25);
+        }
+        assert_eq!(obstacle_ahead(&f, 52), Some(49));
+    }
+
+    /// `FLOOR` with a grain of ±`amp` levels in patches of 3 × 3 pixels.
+    fn grained(amp: i32) -> [u8; PIXELS] {
+        let mut f = scene(0, 0..0, 0);
+        for y in 36..HEIGHT {
+            for x in 0..WIDTH {
+                // a fixed scatter of patch greys, -amp..=amp
+                let h = ((y / 3) * 7 + (x / 3) * 13 + (y / 3) * (x / 3)) % 5;
+                f[y * WIDTH + x] = (i32::from(FLOOR) + amp * (h as i32 - 2) / 2) as u8;
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn a_grain_on_the_floor_raises_the_tolerance_and_a_wall_on_it_is_still_found() {
+        // ±2 levels, the sensor's noise, keeps the least tolerance
+        assert_eq!(Floor::of(&grained(2)).tol, FLOOR_TOL);
+        // ±10 levels in patches that make steps of 5 and 10 up the column: at the least
+        // tolerance the grain's patches read as feet, at the grain's own they do not
+        let f = grained(10);
+        let floor = Floor::of(&f);
+        assert!(floor.tol > FLOOR_TOL, "{floor:?}");
+        assert_eq!(obstacle_ahead(&f, 52), None);
+        // a wall standing on it, foot at row 55, 70 levels darker
+        let mut wall = f;
+        for y in 0..=55 {
+            wall[y * WIDTH..(y + 1) * WIDTH].fill(40);
+        }
+        assert_eq!(Floor::of(&wall), floor);
+        assert_eq!(obstacle_ahead(&wall, 52), Some(49));
+    }
+
+    #[test]
+    fn an_obstacle_close_ahead_does_not_raise_the_tolerance() {
+        // a post covers the left third of the nearest floor: its pixels are not grain
+        let mut f = scene(0, 0..0, 0);
+        for y in 0..HEIGHT {
+            f[y * WIDTH..y * WIDTH + 33].fill(40);
+        }
+        assert_eq!(Floor::of(&f).tol, FLOOR_TOL);
+        // covering most of the sample, it leaves the least tolerance too
+        for y in 0..HEIGHT {
+            f[y * WIDTH..y * WIDTH + 80].fill(40);
+        }
+        assert_eq!(Floor::of(&f).tol, FLOOR_TOL);
+    }
+
     /// `foot_below` as the plain definition: every candidate's column scanned again.
-    fn foot_below_plain(frame: &[u8; PIXELS], floor: i32, x: usize, top: usize) -> Option<usize> {
+    fn foot_below_plain(frame: &[u8; PIXELS], floor: Floor, x: usize, top: usize) -> Option<usize> {
         let last = top + 1 - FOOT_ROWS;
-        let (mut grey, mut run) = (floor, 0);
+        let (mut grey, mut run, mut below) = (floor.grey, 0, floor.grey);
         let mut y = HEIGHT;
         while y > last.max(BELOW_HORIZON) {
             y -= 1;
             let p = i32::from(frame[y * WIDTH + x]);
-            if (p - grey).abs() <= FLOOR_TOL {
+            if (p - grey).abs() <= floor.tol {
                 grey += (p - grey).clamp(-FLOOR_TRACK, FLOOR_TRACK);
+                below = p;
                 run = 0;
                 continue;
             }
             run += 1;
             let foot = y + FOOT_ROWS - 1;
-            let (hits, rows) = column_cover(frame.as_chunks().0, grey, x, foot);
-            if run >= FOOT_ROWS && 100 * hits >= FOOT_COVER_PCT * rows {
+            let (hits, rows) = column_cover(frame.as_chunks().0, grey, floor.tol, x, foot);
+            let stepped = (p - below).abs() > floor.tol;
+            if run >= FOOT_ROWS && stepped && 100 * hits >= FOOT_COVER_PCT * rows {
                 return Some(foot);
             }
         }
@@ -377,18 +521,48 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// The tolerance is three robust standard deviations: the plain definition, the
+        /// median (the sorted sample's middle, upper of two) of the deviations kept.
+        #[test]
+        fn the_tolerance_is_the_sorted_samples_median(
+            band in proptest::collection::vec(-40i32..=40, WIDTH * 8),
+            grey in 40u8..200,
+        ) {
+            // the nearest floor's 8 rows within ±40 of `grey`: some deviations kept, some not
+            let mut f = [grey; PIXELS];
+            for (p, d) in f[(HEIGHT - 8) * WIDTH..].iter_mut().zip(&band) {
+                *p = (i32::from(grey) + d) as u8;
+            }
+            let g = floor_grey(&f);
+            let mut dev: std::vec::Vec<i32> = GRAIN_ROWS
+                .iter()
+                .flat_map(|y| (0..GRAIN_COLS).map(move |k| y * WIDTH + 9 + 10 * k))
+                .map(|i| (i32::from(f[i]) - g).abs())
+                .filter(|&d| d <= 2 * FLOOR_TOL)
+                .collect();
+            dev.sort_unstable();
+            let tol = if 2 * dev.len() >= GRAIN_SAMPLES {
+                FLOOR_TOL.max(89 * dev[dev.len() / 2] / 20)
+            } else {
+                FLOOR_TOL
+            };
+            proptest::prop_assert_eq!(Floor::of(&f), Floor { grey: g, tol });
+        }
+
         /// The one-pass cover is the plain definition's, on columns of floor, blobs and walls
         /// of a few greys (so that runs, failed candidates and covered feet all occur).
         #[test]
         fn the_one_pass_cover_is_the_plain_definition(
             column in proptest::collection::vec(proptest::sample::select(&[40u8, 52, 60, 75, 120, 200][..]), HEIGHT),
             floor in proptest::sample::select(&[40i32, 52, 60][..]),
+            tol in proptest::sample::select(&[FLOOR_TOL, 20][..]),
             top in FOOT_ROWS - 1..HEIGHT,
         ) {
             let mut f = [0u8; PIXELS];
             for (y, &g) in column.iter().enumerate() {
                 f[y * WIDTH + 7] = g;
             }
+            let floor = Floor { grey: floor, tol };
             proptest::prop_assert_eq!(foot_below(&f, floor, 7, top), foot_below_plain(&f, floor, 7, top));
         }
     }
