@@ -213,7 +213,9 @@ fn the_stimuli_in_the_replica_differ_from_the_lab_and_still_tell_approach_from_r
 /// the stimuli's once more for the blind arms at the side borders (`border_arms`, standing
 /// robots only: the other three held), and the other three when the floor line came to
 /// follow the floor's grey up each column (driving robots only: the stimuli's held); the
-/// two threats' once more for the takeoff's jump (`jump_frames`, takeoffs from standing only).
+/// two threats' once more for the takeoff's jump (`jump_frames`, takeoffs from standing only);
+/// the two threats' and the arena's when the floor line learned to ignore a floor's grain
+/// (driving robots only; the stimuli's and the swarm's held).
 #[test]
 fn the_lab_is_bit_identical_to_before_the_worlds() {
     let lab = BuiltinWorld::Lab;
@@ -266,8 +268,8 @@ fn the_lab_is_bit_identical_to_before_the_worlds() {
         ],
         [
             0x737d_755a_d06b_14e0,
-            0x9064_3122_5250_4d1a,
-            0xa014_a12d_8f48_f2c3,
+            0x46ba_3acc_5d5d_9610,
+            0xcfe3_ac6c_2b8e_830d,
             0x5ba4_c044_3b54_dee9
         ]
     );
