@@ -291,7 +291,6 @@ fn a_floor_pattern_changes_the_floor_only_and_fades_with_distance() {
 /// docs/notes/2026-11-28-floor-grain.md), and hides a foot the plain floor shows on at most 1 %.
 #[test]
 fn the_floor_line_finds_few_feet_in_a_floor_grain_and_hides_few() {
-    use alvs_host::experiments::robustness::Perturbation;
     use alvs_tasks::model::closed_loop::floor::obstacle_ahead;
     let world = BuiltinWorld::Fu2019.world();
     let (sx, sy) = (world.arena.size_x_mm, world.arena.size_y_mm);
