@@ -215,9 +215,9 @@ impl PairedArena {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Trial {
         let seed = self.seeds[s];
-        let (mut motor, gyro, noise) = alvs_sim::robot_noise(true);
+        let (mut motor, gyro, mut noise) = alvs_sim::robot_noise(true);
         let mut options = SimOptions::default();
-        perturbation.apply(seed, &mut motor, &mut options);
+        perturbation.apply(seed, &mut motor, &mut noise, &mut options);
         arena::run_world_trial(
             &TrialSetup {
                 world: &self.world,

@@ -3,7 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use alvs_sim::{CameraMount, FloorPattern, HeadingSource, LightGradient, MotorParams, SimOptions};
+use alvs_sim::{
+    CameraMount, FloorPattern, HeadingSource, LightGradient, MotorParams, SensorNoise, SimOptions,
+};
 
 /// The textured floor: a grain of 5–80 mm, 10 % RMS. A choice, not a measurement: the grain
 /// and speckle of a laminate, lino or plywood floor, whose grey visibly varies by some 10 % over
@@ -54,6 +56,13 @@ pub const MOTOR_ASYMMETRY: f64 = 0.05;
 /// the row backlog (≤ 4.5 a second).
 pub const FRAME_LOSS: f64 = 0.05;
 
+/// The steady camera: no frame-to-frame gain change. The simulator's camera draws a global gain
+/// of 2 % standard deviation every frame (`SensorNoise::typical`: automatic gain and lighting
+/// flicker), a plausible figure that no recording here measures (docs/world.md). An OV7670
+/// whose automatic exposure and gain are switched off (`COM8`'s AEC and AGC bits) under steady
+/// light has none; this row shows how much each controller's figures rest on that choice.
+pub const STEADY_GAIN_SIGMA: f32 = 0.0;
+
 /// One perturbation of the world, the camera, the motors or the firmware's loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -80,11 +89,13 @@ pub enum Perturbation {
     Odometry,
     /// 5 % of the frames after a processed one lost ([`FRAME_LOSS`]).
     DroppedFrames,
+    /// The camera's gain fixed: no per-frame gain draw ([`STEADY_GAIN_SIGMA`]).
+    CameraSteady,
 }
 
 impl Perturbation {
     /// Every perturbation, the reference first.
-    pub const ALL: [Perturbation; 11] = [
+    pub const ALL: [Perturbation; 12] = [
         Perturbation::None,
         Perturbation::FloorTexture,
         Perturbation::FloorShade,
@@ -96,6 +107,7 @@ impl Perturbation {
         Perturbation::MotorAsymmetry,
         Perturbation::Odometry,
         Perturbation::DroppedFrames,
+        Perturbation::CameraSteady,
     ];
 
     /// Its name on the command line, in tables and in JSON.
@@ -112,6 +124,7 @@ impl Perturbation {
             Perturbation::MotorAsymmetry => "motor-asymmetry",
             Perturbation::Odometry => "odometry",
             Perturbation::DroppedFrames => "dropped-frames",
+            Perturbation::CameraSteady => "camera-steady",
         }
     }
 
@@ -129,6 +142,7 @@ impl Perturbation {
             Perturbation::MotorAsymmetry => "right wheel 5 % slower",
             Perturbation::Odometry => "odometry heading, not the gyro",
             Perturbation::DroppedFrames => "5 % of frames lost",
+            Perturbation::CameraSteady => "camera gain fixed (no 2 % draw)",
         }
     }
 
@@ -146,9 +160,15 @@ impl Perturbation {
             })
     }
 
-    /// Applies it to a robot's motors and the loop's options; `seed` (the trial's) seeds the
-    /// floor patterns, so each seed meets another floor.
-    pub fn apply(self, seed: u64, motor: &mut MotorParams, options: &mut SimOptions) {
+    /// Applies it to a robot's motors, its camera's noise and the loop's options; `seed` (the
+    /// trial's) seeds the floor patterns, so each seed meets another floor.
+    pub fn apply(
+        self,
+        seed: u64,
+        motor: &mut MotorParams,
+        noise: &mut SensorNoise,
+        options: &mut SimOptions,
+    ) {
         let mount = CameraMount::default();
         let render = &mut options.render;
         match self {
@@ -177,6 +197,7 @@ impl Perturbation {
             Perturbation::MotorAsymmetry => motor.asymmetry = MOTOR_ASYMMETRY,
             Perturbation::Odometry => options.heading = HeadingSource::Odometry,
             Perturbation::DroppedFrames => options.frame_loss = Some(FRAME_LOSS),
+            Perturbation::CameraSteady => noise.gain_sigma = STEADY_GAIN_SIGMA,
         }
     }
 }
@@ -204,15 +225,20 @@ mod tests {
     /// every resulting render option is valid.
     #[test]
     fn each_perturbation_changes_one_thing() {
-        let plain = (MotorParams::default(), SimOptions::default());
+        let plain = (
+            MotorParams::default(),
+            SensorNoise::typical(),
+            SimOptions::default(),
+        );
         let mut seen = Vec::new();
         for p in Perturbation::ALL {
-            let (mut motor, mut options) = plain;
-            p.apply(7, &mut motor, &mut options);
+            let (mut motor, mut noise, mut options) = plain;
+            p.apply(7, &mut motor, &mut noise, &mut options);
             options.render.check().unwrap();
-            assert_eq!((motor, options) == plain, p == Perturbation::None, "{p:?}");
-            assert!(!seen.contains(&(motor, options)), "{p:?} repeats another");
-            seen.push((motor, options));
+            let changed = (motor, noise, options);
+            assert_eq!(changed == plain, p == Perturbation::None, "{p:?}");
+            assert!(!seen.contains(&changed), "{p:?} repeats another");
+            seen.push(changed);
         }
     }
 }
