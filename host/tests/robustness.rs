@@ -611,7 +611,6 @@ fn frames_are_lost_at_their_rate_and_never_two_in_a_row() {
     assert!((share - 0.2 / 1.2).abs() < 0.02, "{share}");
 }
 
-// ---------------------------------------------------------------------------------------------
 /// `camera-steady` takes the camera's per-frame gain draw away and nothing else: a robot
 /// standing before the replica's wall sees the frame's mean grey jump by about 2 % of itself
 /// from frame to frame with the typical camera (1.6 % measured), and by the pixel noise's
@@ -657,6 +656,7 @@ fn the_steady_camera_has_no_gain_draw() {
     assert!(sd_steady < 0.1, "steady: sd {sd_steady:.3}");
 }
 
+// ---------------------------------------------------------------------------------------------
 // The suite.
 
 use alvs_host::experiments::robustness::{
