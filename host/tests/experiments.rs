@@ -544,7 +544,7 @@ fn cli_helps_and_fails_cleanly() {
         let out = alvs().args([cmd, "--help"]).output().unwrap();
         assert!(out.status.success(), "{cmd}");
         assert!(
-            ["--seed", "--exposure"]
+            ["--seed", "--exposure", "--camera-gain"]
                 .iter()
                 .all(|f| String::from_utf8_lossy(&out.stdout).contains(f)),
             "{cmd}"
@@ -558,6 +558,7 @@ fn cli_helps_and_fails_cleanly() {
         &["stimuli", "--jobs", "0"],
         &["swarm", "--exposure", "1.5"],
         &["evasion", "--exposure", "-1"],
+        &["stimuli", "--camera-gain", "auto"],
     ] {
         let out = alvs().args(args).output().unwrap();
         assert!(!out.status.success(), "{args:?}");

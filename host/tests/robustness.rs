@@ -611,7 +611,7 @@ fn frames_are_lost_at_their_rate_and_never_two_in_a_row() {
     assert!((share - 0.2 / 1.2).abs() < 0.02, "{share}");
 }
 
-/// `camera-steady` takes the camera's per-frame gain draw away and nothing else: a robot
+/// `camera-steady` and `camera-aec` take the camera's per-frame gain draw away and nothing else: a robot
 /// standing before the replica's wall sees the frame's mean grey jump by about 2 % of itself
 /// from frame to frame with the typical camera (1.6 % measured), and by the pixel noise's
 /// share only without the draw (0.03 grey levels).
@@ -654,6 +654,24 @@ fn the_steady_camera_has_no_gain_draw() {
         "typical: mean {m:.1}, sd {sd_typical:.2}"
     );
     assert!(sd_steady < 0.1, "steady: sd {sd_steady:.3}");
+    // `camera-aec`: the documented auto exposure in place of the draw, which in this steady
+    // view holds the exposure (its steps are tested in sim/tests/camera_aec.rs)
+    let mut aec = typical;
+    Perturbation::CameraAec.apply(
+        1,
+        &mut MotorParams::default(),
+        &mut aec,
+        &mut SimOptions::default(),
+    );
+    assert_eq!(
+        aec,
+        SensorNoise {
+            gain_sigma: 0.0,
+            aec: Some(alvs_sim::Aec::OV7670),
+            ..typical
+        }
+    );
+    assert!(spread(aec).1 < 0.1, "aec: sd {:.3}", spread(aec).1);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -150,6 +150,8 @@ pub struct Encounter {
     /// instantaneous snapshots, the default; 1 = the whole period): motion during the exposure
     /// blurs the picture ([`crate::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the tested robot's camera gain moves from frame to frame ([`crate::GainModel`]).
+    pub gain: crate::GainModel,
     /// Record a [`TraceRow`] per frame.
     pub trace: bool,
 }
@@ -157,12 +159,14 @@ pub struct Encounter {
 impl Encounter {
     /// The encounter every trial of a run shares, with the tested robot's controller, the
     /// threats and the seed still to set (`Encounter { kind, threats, seed, ..base }`): the
-    /// staged world and start, the model, realistic noise, the camera's `exposure`, `trace`.
+    /// staged world and start, the model, realistic noise, the camera's `exposure` and `gain`,
+    /// `trace`.
     pub fn staged(
         staged: super::stage::Staged,
         params: Params,
         fsm: alvs_tasks::model::fsm::FsmParams,
         exposure: f32,
+        gain: crate::GainModel,
         trace: bool,
     ) -> Encounter {
         Encounter {
@@ -175,6 +179,7 @@ impl Encounter {
             start: staged.placement.pose,
             noise: true,
             exposure,
+            gain,
             trace,
         }
     }
@@ -477,6 +482,9 @@ pub fn run_with(
     let mut sim = Sim::new(&e.world, e.seed);
     let (motor, gyro, mut noise) = crate::robot_noise(e.noise);
     noise.exposure = e.exposure;
+    if e.noise {
+        e.gain.apply(&mut noise);
+    }
     let start = e.start;
     let tested = HoldUntilAlert::new(controller);
     sim.add(start, Box::new(tested), motor, gyro, noise);

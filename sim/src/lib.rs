@@ -8,6 +8,7 @@
 //! | arena, walls, textures, robot bodies, poses and the frame convention | [`world`] |
 //! | wall textures as mip-mapped look-up tables; `--background` specifications | [`texture`] |
 //! | each robot's front camera (99x72, 70°, pinhole), its mount, noise | [`render`] |
+//! | the sensor's automatic exposure and gain; the camera's gain models | [`aec`] |
 //! | a pattern fixed to the floor (textured and shaded floors) | [`floor_pattern`] |
 //! | uneven light across the arena | [`lighting`] |
 //! | the replica of the recorded arena of Fu et al. 2019 | [`replica`] |
@@ -29,6 +30,7 @@
 //! the perception on it, `Physics::gyro_mut(i).update(..)` for the heading, `Fsm::step`,
 //! `Physics::command(i, &cmd)`; once every robot has its command, `Physics::step_frame`.
 
+pub mod aec;
 pub mod canvas;
 pub mod contacts;
 pub mod controller;
@@ -49,6 +51,7 @@ pub mod topdown;
 pub mod world;
 pub mod worlds;
 
+pub use aec::{Aec, GainModel};
 pub use contacts::{
     ContactCounts, ContactEvent, ContactTracker, EventKind, Other, SurfaceContact, Tally,
 };

@@ -53,6 +53,7 @@
 
 use alvs_tasks::{Frame, HEIGHT, PIXELS, WIDTH};
 
+use crate::aec::Aec;
 use crate::canvas::Canvas;
 
 use super::floor_pattern::{FloorMap, FloorPattern};
@@ -207,9 +208,13 @@ pub struct SensorNoise {
     /// Standard deviation of the additive pixel noise, grey levels (independent per pixel and
     /// frame).
     pub pixel_sigma: f32,
-    /// Standard deviation of the global gain, relative (one draw per frame: automatic gain
-    /// control and lighting flicker).
+    /// Standard deviation of the global gain, relative (one independent draw per frame:
+    /// [`GainModel::Jitter`](crate::GainModel::Jitter)).
     pub gain_sigma: f32,
+    /// The sensor's automatic exposure and gain ([`Aec`], the
+    /// [`GainModel::Aec`](crate::GainModel::Aec)), on top of `gain_sigma`; `None`: the exposure
+    /// holds.
+    pub aec: Option<Aec>,
     /// Exposure time as a fraction of the frame period, 0..=1 (0 = an instantaneous snapshot):
     /// the picture is the mean of [`EXPOSURE_SAMPLES`] views along the bodies' straight-line
     /// motion over the last `exposure · 33 ms` of the frame, so what moves while the shutter
@@ -232,11 +237,13 @@ pub struct SensorNoise {
 pub const EXPOSURE_SAMPLES: usize = 4;
 
 impl SensorNoise {
-    /// Plausible OV7670 figures in a lit lab: 2 grey levels of pixel noise, 2 % gain flicker.
+    /// Plausible OV7670 figures in a lit lab: 2 grey levels of pixel noise, 2 % gain flicker
+    /// ([`GainModel::Jitter`](crate::GainModel::Jitter)).
     pub fn typical() -> Self {
         SensorNoise {
             pixel_sigma: 2.0,
             gain_sigma: 0.02,
+            aec: None,
             exposure: 0.0,
             shake_deg: 0.0,
         }
@@ -325,6 +332,10 @@ pub struct Camera {
     poses: Vec<Pose>,
     /// The light shifted by the shake.
     shaken: Vec<f32>,
+    /// The exposure [`SensorNoise::aec`] has set for the next frame, relative to the first.
+    aec_gain: f32,
+    /// The centre of the AEC's stable region: the first frame's mean grey.
+    aec_centre: Option<f32>,
 }
 
 impl Camera {
@@ -338,6 +349,8 @@ impl Camera {
             light: vec![0.0; PIXELS],
             poses: Vec::new(),
             shaken: vec![0.0; PIXELS],
+            aec_gain: 1.0,
+            aec_centre: None,
         }
     }
 
@@ -381,7 +394,7 @@ impl Camera {
             (1.0 + self.noise.gain_sigma * self.rng.normal()).max(0.0)
         } else {
             1.0
-        };
+        } * self.aec_gain;
         let noise = (self.noise.pixel_sigma > 0.0).then_some(self.noise.pixel_sigma);
         self.light.fill(0.0);
         let e = self.noise.exposure.clamp(0.0, 1.0);
@@ -425,6 +438,13 @@ impl Camera {
         } else {
             &self.light
         };
+        if let Some(aec) = self.noise.aec {
+            // the sensor's YAVG: the mean of the clipped picture, before the pixel noise (whose
+            // mean is 0); the step applies from the next frame
+            let mean = light.iter().map(|&l| (l * gain).min(255.0)).sum::<f32>() / PIXELS as f32;
+            let centre = *self.aec_centre.get_or_insert(mean);
+            self.aec_gain = (self.aec_gain * aec.next(mean, centre)).clamp(1.0 / 64.0, 64.0);
+        }
         Renderer::sensor(light, gain, noise.map(|s| (s, &mut self.rng)), frame);
     }
 }

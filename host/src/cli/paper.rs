@@ -32,6 +32,7 @@ impl Experiment for StimuliArgs {
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
+            gain: self.common.camera.gain,
         })
     }
 
@@ -88,6 +89,7 @@ impl Experiment for EvasionArgs {
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
+            gain: self.common.camera.gain,
             trace: self.trace.is_some(),
             ..evasion::EvasionConfig::default()
         })
@@ -147,6 +149,7 @@ impl Experiment for TwoThreatArgs {
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
+            gain: self.common.camera.gain,
             trace: self.trace.is_some(),
         })
     }
@@ -208,6 +211,7 @@ impl Experiment for SwarmArgs {
             world: self.common.world.builtin(),
             background: self.common.background.clone(),
             exposure: self.common.camera.exposure,
+            gain: self.common.camera.gain,
         })
     }
 
@@ -284,6 +288,7 @@ impl Experiment for ArenaArgs {
             fsm: self.model.fsm()?,
             trace: self.trace.is_some(),
             exposure: self.camera.exposure,
+            gain: self.camera.gain,
             ..ArenaConfig::default()
         })
     }

@@ -161,10 +161,14 @@ pub fn run(a: ValidateArgs) -> Result<()> {
             RunsArg::Calibration => validate::RunSet::Calibration,
             RunsArg::HeldOut => validate::RunSet::HeldOut,
         },
-        noise: alvs_sim::SensorNoise {
-            exposure: a.camera.exposure,
-            shake_deg: a.shake_deg,
-            ..alvs_sim::SensorNoise::typical()
+        noise: {
+            let mut noise = alvs_sim::SensorNoise {
+                exposure: a.camera.exposure,
+                shake_deg: a.shake_deg,
+                ..alvs_sim::SensorNoise::typical()
+            };
+            a.camera.gain.apply(&mut noise);
+            noise
         },
         mount,
         proximity_mm: a.proximity_mm,

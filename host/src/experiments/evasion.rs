@@ -64,6 +64,8 @@ pub struct EvasionConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    pub gain: alvs_sim::GainModel,
 }
 
 impl Default for EvasionConfig {
@@ -80,6 +82,7 @@ impl Default for EvasionConfig {
             world: BuiltinWorld::Fu2019,
             background: None,
             exposure: 0.0,
+            gain: alvs_sim::GainModel::Jitter,
         }
     }
 }
@@ -313,7 +316,14 @@ impl Sweep for EvasionConfig {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, Self::Trial)>> {
         let (distance, staged) = self.validate()?;
-        let base = Encounter::staged(staged, self.params, self.fsm, self.exposure, self.trace);
+        let base = Encounter::staged(
+            staged,
+            self.params,
+            self.fsm,
+            self.exposure,
+            self.gain,
+            self.trace,
+        );
         let bearings = self.bearings();
         parallel::slice(self.trial_count(), jobs, shard, |i| {
             let (kind, b) = (

@@ -198,6 +198,8 @@ pub struct StimuliConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    pub gain: alvs_sim::GainModel,
 }
 
 impl Default for StimuliConfig {
@@ -209,6 +211,7 @@ impl Default for StimuliConfig {
             world: BuiltinWorld::Fu2019,
             background: None,
             exposure: 0.0,
+            gain: alvs_sim::GainModel::Jitter,
         }
     }
 }
@@ -389,9 +392,13 @@ fn run_scene(
         Box::new(stand),
         MotorParams::ideal(),
         GyroParams::ideal(),
-        SensorNoise {
-            exposure: config.exposure,
-            ..SensorNoise::typical()
+        {
+            let mut noise = SensorNoise {
+                exposure: config.exposure,
+                ..SensorNoise::typical()
+            };
+            config.gain.apply(&mut noise);
+            noise
         },
     );
     for m in &scene.movers {

@@ -64,6 +64,8 @@ pub struct SwarmConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    pub gain: alvs_sim::GainModel,
 }
 
 impl Default for SwarmConfig {
@@ -80,6 +82,7 @@ impl Default for SwarmConfig {
             world: BuiltinWorld::Fu2019,
             background: None,
             exposure: 0.0,
+            gain: alvs_sim::GainModel::Jitter,
         }
     }
 }
@@ -263,9 +266,13 @@ fn run_slice(
                 kind.make(config.params, config.fsm, root.fork(i as u64).next_u64()),
                 MotorParams::default(),
                 GyroParams::default(),
-                SensorNoise {
-                    exposure: config.exposure,
-                    ..SensorNoise::typical()
+                {
+                    let mut noise = SensorNoise {
+                        exposure: config.exposure,
+                        ..SensorNoise::typical()
+                    };
+                    config.gain.apply(&mut noise);
+                    noise
                 },
             );
         }

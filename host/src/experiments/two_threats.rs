@@ -64,6 +64,8 @@ pub struct TwoThreatConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    pub gain: alvs_sim::GainModel,
 }
 
 impl Default for TwoThreatConfig {
@@ -80,6 +82,7 @@ impl Default for TwoThreatConfig {
             world: BuiltinWorld::Fu2019,
             background: None,
             exposure: 0.0,
+            gain: alvs_sim::GainModel::Jitter,
         }
     }
 }
@@ -288,6 +291,7 @@ impl Sweep for TwoThreatConfig {
             self.params,
             self.fsm,
             self.exposure,
+            self.gain,
             self.trace,
         );
         let n = self.runs;

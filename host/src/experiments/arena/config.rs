@@ -31,6 +31,8 @@ pub struct ArenaConfig {
     /// the default): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
+    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    pub gain: alvs_sim::GainModel,
     /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
     pub trace: bool,
 }
@@ -50,6 +52,7 @@ impl Default for ArenaConfig {
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             noise: true,
             exposure: 0.0,
+            gain: alvs_sim::GainModel::Jitter,
             trace: false,
         }
     }
@@ -134,6 +137,9 @@ impl ArenaConfig {
         let starts = start_poses_among(&world.arena, &world.obstacles, self.robots, self.seed)?;
         let (motor, gyro, mut noise) = alvs_sim::robot_noise(self.noise);
         noise.exposure = self.exposure;
+        if self.noise {
+            self.gain.apply(&mut noise);
+        }
         let controller_seeds = controller_seeds(self.seed, self.robots);
         Ok(Prepared {
             backgrounds,

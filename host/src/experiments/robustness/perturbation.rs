@@ -4,7 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use alvs_sim::{
-    CameraMount, FloorPattern, HeadingSource, LightGradient, MotorParams, SensorNoise, SimOptions,
+    CameraMount, FloorPattern, GainModel, HeadingSource, LightGradient, MotorParams, SensorNoise,
+    SimOptions,
 };
 
 /// The textured floor: a grain of 5–80 mm, 10 % RMS. A choice, not a measurement: the grain
@@ -57,11 +58,16 @@ pub const MOTOR_ASYMMETRY: f64 = 0.05;
 pub const FRAME_LOSS: f64 = 0.05;
 
 /// The steady camera: no frame-to-frame gain change. The simulator's camera draws a global gain
-/// of 2 % standard deviation every frame (`SensorNoise::typical`: automatic gain and lighting
-/// flicker), a plausible figure that no recording here measures (docs/world.md). An OV7670
-/// whose automatic exposure and gain are switched off (`COM8`'s AEC and AGC bits) under steady
-/// light has none; this row shows how much each controller's figures rest on that choice.
-pub const STEADY_GAIN_SIGMA: f32 = 0.0;
+/// of 2 % standard deviation every frame (`SensorNoise::typical`, [`GainModel::Jitter`]), a
+/// plausible figure that no recording here measures (docs/world.md). An OV7670 whose automatic
+/// exposure and gain are switched off (`COM8`'s AEC and AGC bits) under steady light has none;
+/// this row shows how much each controller's figures rest on that choice.
+pub const STEADY_GAIN: GainModel = GainModel::Steady;
+
+/// The documented automatic exposure ([`alvs_sim::Aec::OV7670`]) in place of the draw: the
+/// exposure holds while the view's mean grey stays in the sensor's stable region and steps by
+/// 1/16 a frame when it leaves it, as the firmware's `COM8` 0x8F (AEC and AGC on) runs it.
+pub const AEC_GAIN: GainModel = GainModel::Aec;
 
 /// One perturbation of the world, the camera, the motors or the firmware's loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -89,13 +95,15 @@ pub enum Perturbation {
     Odometry,
     /// 5 % of the frames after a processed one lost ([`FRAME_LOSS`]).
     DroppedFrames,
-    /// The camera's gain fixed: no per-frame gain draw ([`STEADY_GAIN_SIGMA`]).
+    /// The camera's gain fixed: no per-frame gain draw ([`STEADY_GAIN`]).
     CameraSteady,
+    /// The sensor's documented automatic exposure in place of the per-frame draw ([`AEC_GAIN`]).
+    CameraAec,
 }
 
 impl Perturbation {
     /// Every perturbation, the reference first.
-    pub const ALL: [Perturbation; 12] = [
+    pub const ALL: [Perturbation; 13] = [
         Perturbation::None,
         Perturbation::FloorTexture,
         Perturbation::FloorShade,
@@ -108,6 +116,7 @@ impl Perturbation {
         Perturbation::Odometry,
         Perturbation::DroppedFrames,
         Perturbation::CameraSteady,
+        Perturbation::CameraAec,
     ];
 
     /// Its name on the command line, in tables and in JSON.
@@ -125,6 +134,7 @@ impl Perturbation {
             Perturbation::Odometry => "odometry",
             Perturbation::DroppedFrames => "dropped-frames",
             Perturbation::CameraSteady => "camera-steady",
+            Perturbation::CameraAec => "camera-aec",
         }
     }
 
@@ -143,6 +153,7 @@ impl Perturbation {
             Perturbation::Odometry => "odometry heading, not the gyro",
             Perturbation::DroppedFrames => "5 % of frames lost",
             Perturbation::CameraSteady => "camera gain fixed (no 2 % draw)",
+            Perturbation::CameraAec => "OV7670 auto exposure (no 2 % draw)",
         }
     }
 
@@ -197,7 +208,8 @@ impl Perturbation {
             Perturbation::MotorAsymmetry => motor.asymmetry = MOTOR_ASYMMETRY,
             Perturbation::Odometry => options.heading = HeadingSource::Odometry,
             Perturbation::DroppedFrames => options.frame_loss = Some(FRAME_LOSS),
-            Perturbation::CameraSteady => noise.gain_sigma = STEADY_GAIN_SIGMA,
+            Perturbation::CameraSteady => STEADY_GAIN.apply(noise),
+            Perturbation::CameraAec => AEC_GAIN.apply(noise),
         }
     }
 }

@@ -1,0 +1,60 @@
+//! The camera's gain models (`alvs_sim::GainModel`) on rendered views: the documented AEC holds
+//! its exposure in a steady view and steps it, 1/16 a frame, when a dark robot close ahead
+//! darkens the view; the steady camera never changes it; the jitter draws a new gain each frame.
+//!
+//! `cargo test --target host-tuple -p alvs-sim --test camera_aec`.
+
+use alvs_sim::render::CAMERA_FORWARD_MM;
+use alvs_sim::worlds::BuiltinWorld;
+use alvs_sim::{Camera, GainModel, Pose, Renderer, SensorNoise};
+
+/// The mean grey of each of 40 frames of a robot in the replica facing a wall across the
+/// arena; from frame 10 on, a robot stands 50 mm ahead of its camera.
+fn means(model: GainModel) -> Vec<f64> {
+    let world = BuiltinWorld::Fu2019.world();
+    let r = Renderer::new(&world);
+    let eye = Pose::new(300.0, 380.0, 0.0);
+    let near = Pose::new(300.0 + CAMERA_FORWARD_MM + 50.0, 380.0, 90.0);
+    let mut noise = SensorNoise {
+        pixel_sigma: 0.0,
+        ..SensorNoise::typical()
+    };
+    model.apply(&mut noise);
+    let mut cam = Camera::new(noise, 3);
+    let mut frame = [0u8; alvs_tasks::PIXELS];
+    (0..40)
+        .map(|i| {
+            let bodies = if i < 10 { vec![eye] } else { vec![eye, near] };
+            cam.capture(&r, &bodies, 0, &mut frame);
+            frame.iter().map(|&v| f64::from(v)).sum::<f64>() / frame.len() as f64
+        })
+        .collect()
+}
+
+#[test]
+fn the_aec_holds_in_a_steady_view_and_steps_back_toward_its_region_when_it_darkens() {
+    let (aec, steady) = (means(GainModel::Aec), means(GainModel::Steady));
+    // a steady view: the same pictures as a camera whose exposure never moves
+    assert_eq!(aec[..11], steady[..11]);
+    // the robot ahead darkens the view by more than the stable region's 8.3 %
+    let (before, after) = (steady[9], steady[10]);
+    assert!(after < 0.9 * before, "{before:.1} → {after:.1}");
+    assert_eq!(steady[10..].iter().fold(f64::NAN, |a, &b| a.max(b)), after);
+    // the AEC brightens the next frames by 1/16 a step until the mean is back inside the region
+    let gain = aec[11] / steady[11];
+    assert!((gain - 17.0 / 16.0).abs() < 0.01, "first step {gain:.3}");
+    let last = aec[39];
+    assert!(
+        last >= (1.0 - 18.0 / 216.0) * before - 1.0 && last <= before + 1.0,
+        "settled at {last:.1} (first view {before:.1})"
+    );
+    // and holds there
+    assert_eq!(aec[35..].iter().fold(f64::NAN, |a, &b| a.max(b)), last);
+}
+
+#[test]
+fn the_jitter_moves_every_frame() {
+    let jitter = means(GainModel::Jitter);
+    let changed = jitter[..10].windows(2).filter(|w| w[0] != w[1]).count();
+    assert_eq!(changed, 9, "{jitter:?}");
+}
