@@ -150,6 +150,37 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     assert!(d.collisions < t.collisions, "{}", table_one.table());
 }
 
+/// An obstacle already 100 mm away when the robot starts looking approaches steadily: its drive
+/// grows some 10 % a frame, never the +50 % step of `q_grow_pct`, once the warm-up has passed
+/// its onset. On seed 1 the default never alerts on it at −17.5° and is hit; with
+/// `q_grow_run` = 3 (growth on 3 frames in a row) every bearing alerts, on the correct side,
+/// mostly with the γ path, and nothing collides (docs/notes/2026-11-28-edge-history.md).
+#[test]
+fn a_run_of_growth_lets_an_obstacle_first_seen_close_alert() {
+    let run = |q_grow_run: &str| {
+        let mut params = alvs_tasks::Params::default();
+        params.set("q_grow_run", q_grow_run).unwrap();
+        let config = EvasionConfig {
+            controllers: alvs_only(),
+            seed: 1,
+            distance_mm: Some(100.0),
+            params,
+            ..EvasionConfig::default()
+        };
+        let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+        r.controllers[0].clone()
+    };
+    let (before, after) = (run("0"), run("3"));
+    assert_eq!(before.alerted, 8, "{before:?}");
+    assert!(before.collisions >= 1, "{before:?}");
+    assert_eq!(
+        (after.alerted, after.correct_side, after.collisions),
+        (9, 9, 0),
+        "{after:?}"
+    );
+    assert!(after.gamma_paths() >= Some(6), "{after:?}");
+}
+
 /// With the camera's exposure blur (`--exposure`, an OV7670 exposing for most of the frame
 /// period) the evasion still goes to the correct side from every bearing, and the blur reaches
 /// the tested robot's camera: the runs differ from the snapshot camera's.

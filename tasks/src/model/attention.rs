@@ -68,6 +68,8 @@ pub struct Field {
     /// Where `drive` was measured: the centroid of its last frame, moved with the view by
     /// turns (`Params::derotate`) but not by recentring.
     pub drive_at: (u8, u8),
+    /// Frames in a row on which `drive` grew at the same place (`Params::q_grow_run`).
+    pub drive_run: u8,
     /// LPLC2 responses of the last `MAX_D` frames, newest at `head`.
     history: [u32; MAX_D as usize],
     /// Slot of the newest response; wraps independently of `age`, which saturates.
@@ -83,6 +85,7 @@ impl Field {
             age: 0,
             drive: 0,
             drive_at: (x as u8, y as u8),
+            drive_run: 0,
             history: [0; MAX_D as usize],
             head: 0,
         }

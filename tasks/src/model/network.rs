@@ -363,15 +363,24 @@ impl Network {
                 }
             }
             let last = (f.shift_since_drive() <= lplc2::GROW_SHIFT_PX).then_some(f.drive);
-            if !lplc2::partial_opening_grows(
-                l.quadrants,
-                &gate,
-                last,
-                off0(p.mechanisms.q_grow_pct),
-            ) {
+            let now = lplc2::drive(l.quadrants);
+            f.drive_run = lplc2::growth_run(f.drive_run, last, now);
+            // `Params::q_grow_run`: a steady approach's run of growth stands as well
+            let grew_in_a_row = p
+                .mechanisms
+                .q_grow_run
+                .is_some_and(|n| f.drive_run >= n.get());
+            if !grew_in_a_row
+                && !lplc2::partial_opening_grows(
+                    l.quadrants,
+                    &gate,
+                    last,
+                    off0(p.mechanisms.q_grow_pct),
+                )
+            {
                 l.response = 0;
             }
-            f.drive = lplc2::drive(l.quadrants);
+            f.drive = now;
             f.drive_at = (f.x, f.y);
             // `Params::band_row`: driving, the scene above the body's height is its own flow
             if self.driving && p.efference.band_row.is_some_and(|row| f.y < row.get()) {

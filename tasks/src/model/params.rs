@@ -123,6 +123,14 @@ param_groups! {
             /// one's, and the residue a finished threat leaves, do not. `None` (0) turns it off (the paper); the
             /// default is 50 with `q_arms` = 3. See `docs/model.md`, "Closed-loop mechanisms".
             q_grow_pct: Option<NonZeroU8> = Range::Int(0, 255),
+            /// Growth in a row: a partial opening also stands once the field's quadrant sum has
+            /// grown, at the same place, on this many frames in a row. An object already close when
+            /// the robot starts looking approaches steadily, its drive growing some 10 % a frame,
+            /// short of `q_grow_pct`'s per-frame step, which only an approach's onset or its last
+            /// few frames reach; a receding object's or a residue's drive does not keep growing.
+            /// `None` (0): only `q_grow_pct`'s step (the default today). See `docs/model.md`,
+            /// "Closed-loop mechanisms".
+            q_grow_run: Option<NonZeroU8> = Range::Int(0, 255),
             /// Attention threshold of a quiet scene: `T_a` (Eq. 3) falls towards this value as the
             /// share of the retina that changes falls below [`crate::model::attention::BUSY_PCT`], so
             /// a small object's faint edges can open a field when little else moves, while a scene
@@ -285,6 +293,7 @@ impl Params {
             flicker_pct: None,
             noise_pct: None,
             q_grow_pct: None,
+            q_grow_run: None,
             t_a_quiet: None,
             border_arms: false,
         },
@@ -323,6 +332,7 @@ impl Params {
             flicker_pct: NonZeroU8::new(50),
             noise_pct: NonZeroU8::new(25),
             q_grow_pct: NonZeroU8::new(50),
+            q_grow_run: None,
             t_a_quiet: NonZeroU16::new(30),
             border_arms: true,
         },
@@ -820,7 +830,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 37);
+        assert_eq!(Params::NAMES.len(), 38);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));

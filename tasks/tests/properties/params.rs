@@ -75,7 +75,8 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         0u8..=100,
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
-    // retirement, its correlator; the blind arms at the side borders; the exclusion zone
+    // retirement, its correlator; the blind arms at the side borders; the exclusion zone; the
+    // run of growth a partial opening may stand on
     let sixth = (
         prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
@@ -83,6 +84,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![3 => Just(true), 1 => Just(false)],
         any::<bool>(),
         prop_oneof![1 => Just(0u8), 1 => 1u8..=99],
+        prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
@@ -91,7 +93,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
             (band_row, floor_row, short_cols, short_row, look_change, noise_pct),
-            (max_fields, t_lplc2, strict_retire, opponent, border_arms, r_x),
+            (max_fields, t_lplc2, strict_retire, opponent, border_arms, r_x, q_grow_run),
         )| Params {
             table1: TableOne {
                 w,
@@ -121,6 +123,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 flicker_pct: NonZeroU8::new(flicker_pct),
                 noise_pct: NonZeroU8::new(noise_pct),
                 q_grow_pct: NonZeroU8::new(q_grow_pct),
+                q_grow_run: NonZeroU8::new(q_grow_run),
                 t_a_quiet: NonZeroU16::new(t_a_quiet),
                 border_arms,
             },

@@ -178,6 +178,16 @@ pub fn partial_opening_grows(quadrants: [u32; 4], g: &Gate, last: Option<u32>, p
     sum * 100 > u64::from(last) * (100 + u64::from(pct))
 }
 
+/// `Params::q_grow_run`: the frames in a row a field's drive has grown at the same place, after
+/// this frame's drive `now` (`last`: the frame before's at the same place, as for
+/// [`partial_opening_grows`]).
+pub fn growth_run(run: u8, last: Option<u32>, now: u32) -> u8 {
+    match last {
+        Some(last) if now > last => run.saturating_add(1),
+        _ => 0,
+    }
+}
+
 /// Eqs. (8)–(9) for the field centred at `(cx, cy)` whose square spans columns `x0..=x1` and
 /// rows `y0..=y1` (already clipped to the retina).
 pub fn integrate(
