@@ -634,13 +634,17 @@ fn the_steady_camera_has_no_gain_draw() {
         (m, sd)
     };
     let typical = SensorNoise::typical();
-    let mut steady = typical;
-    Perturbation::CameraSteady.apply(
-        1,
-        &mut MotorParams::default(),
-        &mut steady,
-        &mut SimOptions::default(),
-    );
+    let perturbed = |p: Perturbation| {
+        let mut noise = typical;
+        p.apply(
+            1,
+            &mut MotorParams::default(),
+            &mut noise,
+            &mut SimOptions::default(),
+        );
+        noise
+    };
+    let steady = perturbed(Perturbation::CameraSteady);
     assert_eq!(
         steady,
         SensorNoise {
@@ -656,13 +660,7 @@ fn the_steady_camera_has_no_gain_draw() {
     assert!(sd_steady < 0.1, "steady: sd {sd_steady:.3}");
     // `camera-aec`: the documented auto exposure in place of the draw, which in this steady
     // view holds the exposure (its steps are tested in sim/tests/camera_aec.rs)
-    let mut aec = typical;
-    Perturbation::CameraAec.apply(
-        1,
-        &mut MotorParams::default(),
-        &mut aec,
-        &mut SimOptions::default(),
-    );
+    let aec = perturbed(Perturbation::CameraAec);
     assert_eq!(
         aec,
         SensorNoise {

@@ -98,6 +98,18 @@ impl GainModel {
         }
     }
 
+    /// The typical camera ([`SensorNoise::typical`](crate::SensorNoise::typical)) with
+    /// `exposure` and this model's gain: what an experiment's `--exposure` and `--camera-gain`
+    /// give its tested robot.
+    pub fn camera(self, exposure: f32) -> crate::SensorNoise {
+        let mut noise = crate::SensorNoise {
+            exposure,
+            ..crate::SensorNoise::typical()
+        };
+        self.apply(&mut noise);
+        noise
+    }
+
     /// `noise` with this model's gain settings (its pixel noise, exposure and shake kept).
     pub fn apply(self, noise: &mut crate::SensorNoise) {
         let (sigma, aec) = match self {

@@ -443,6 +443,7 @@ impl Camera {
             // mean is 0); the step applies from the next frame
             let mean = light.iter().map(|&l| (l * gain).min(255.0)).sum::<f32>() / PIXELS as f32;
             let centre = *self.aec_centre.get_or_insert(mean);
+            // bounded only so that a view that stays black or white cannot run it to 0 or ∞
             self.aec_gain = (self.aec_gain * aec.next(mean, centre)).clamp(1.0 / 64.0, 64.0);
         }
         Renderer::sensor(light, gain, noise.map(|s| (s, &mut self.rng)), frame);

@@ -161,14 +161,9 @@ pub fn run(a: ValidateArgs) -> Result<()> {
             RunsArg::Calibration => validate::RunSet::Calibration,
             RunsArg::HeldOut => validate::RunSet::HeldOut,
         },
-        noise: {
-            let mut noise = alvs_sim::SensorNoise {
-                exposure: a.camera.exposure,
-                shake_deg: a.shake_deg,
-                ..alvs_sim::SensorNoise::typical()
-            };
-            a.camera.gain.apply(&mut noise);
-            noise
+        noise: alvs_sim::SensorNoise {
+            shake_deg: a.shake_deg,
+            ..a.camera.gain.camera(a.camera.exposure)
         },
         mount,
         proximity_mm: a.proximity_mm,

@@ -64,7 +64,7 @@ pub struct EvasionConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
-    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    /// How the camera's gain moves from frame to frame (`--camera-gain`, [`alvs_sim::GainModel`]).
     pub gain: alvs_sim::GainModel,
 }
 

@@ -198,7 +198,7 @@ pub struct StimuliConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
-    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    /// How the camera's gain moves from frame to frame (`--camera-gain`, [`alvs_sim::GainModel`]).
     pub gain: alvs_sim::GainModel,
 }
 
@@ -392,14 +392,7 @@ fn run_scene(
         Box::new(stand),
         MotorParams::ideal(),
         GyroParams::ideal(),
-        {
-            let mut noise = SensorNoise {
-                exposure: config.exposure,
-                ..SensorNoise::typical()
-            };
-            config.gain.apply(&mut noise);
-            noise
-        },
+        config.gain.camera(config.exposure),
     );
     for m in &scene.movers {
         m.add_to(&mut sim, &me);

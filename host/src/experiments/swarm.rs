@@ -64,7 +64,7 @@ pub struct SwarmConfig {
     /// the default; 1 = the whole period): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
-    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    /// How the camera's gain moves from frame to frame (`--camera-gain`, [`alvs_sim::GainModel`]).
     pub gain: alvs_sim::GainModel,
 }
 
@@ -266,14 +266,7 @@ fn run_slice(
                 kind.make(config.params, config.fsm, root.fork(i as u64).next_u64()),
                 MotorParams::default(),
                 GyroParams::default(),
-                {
-                    let mut noise = SensorNoise {
-                        exposure: config.exposure,
-                        ..SensorNoise::typical()
-                    };
-                    config.gain.apply(&mut noise);
-                    noise
-                },
+                config.gain.camera(config.exposure),
             );
         }
         if let Some(p) = leader_pose {

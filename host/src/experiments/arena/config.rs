@@ -31,7 +31,7 @@ pub struct ArenaConfig {
     /// the default): motion during the exposure blurs the picture
     /// ([`alvs_sim::SensorNoise::exposure`]).
     pub exposure: f32,
-    /// How the camera's gain moves from frame to frame (`--camera`, [`alvs_sim::GainModel`]).
+    /// How the camera's gain moves from frame to frame (`--camera-gain`, [`alvs_sim::GainModel`]).
     pub gain: alvs_sim::GainModel,
     /// Keep every robot's frame-by-frame trace ([`Trial::trace`]) for `--trace`.
     pub trace: bool,
