@@ -176,7 +176,7 @@ impl ModelOptions {
 /// A preset of the model: its perception (`Params::preset`) and its motion (`FsmParams`).
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Model {
-    /// The paper's model plus the closed-loop mechanisms and a lower `T_s` (`Params::ALVS`,
+    /// The paper's model plus the closed-loop mechanisms that earn their place (`Params::ALVS`,
     /// `FsmParams::ALVS`), the firmware's.
     Alvs,
     /// The paper's model exactly (`Params::PAPER`, `FsmParams::PAPER`).
