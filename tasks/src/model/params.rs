@@ -42,7 +42,7 @@ param_groups! {
             t_a: u16 = Range::Int(0, u16::MAX as i64),
             /// `T_d`: mean LPLC2 over `d` frames below which a field retires, Eq. (10). Table I: 5000.
             /// A `u16` (at most 65,535: 13 times Table I's, 5 times the authors' firmware's 12,500),
-            /// so that Table I's group packs without padding (`Params` in 64 bytes).
+            /// so that Table I's group packs without padding.
             t_d: u16 = Range::Int(0, u16::MAX as i64),
             /// `d`: frames over which the LPLC2 response is averaged, Eq. (10). Table I: 4.
             d: u8 = Range::Int(1, MAX_D as i64),
@@ -184,8 +184,9 @@ param_groups! {
             /// `docs/model.md`, "Closed-loop mechanisms".
             floor_row: Option<NonZeroU8> = Range::Int(0, HEIGHT as i64 - 1),
         },
-        /// Gates of the short mode: what a threat above `T_s` must also show to start one (not in
-        /// the paper, all `None` there; off in the default too, `docs/ablation.md`).
+        /// The short mode's test: the gates a threat above `T_s` must also pass to start one, and
+        /// how cut fields count (not in the paper, all off there; off in the default too,
+        /// `docs/ablation.md`, `docs/model.md`).
         short: ShortGates {
             /// Motion adaptation of the short mode: with `N` > 0 the short mode also needs `ΣLPLC2`
             /// above twice its running mean over about `N` frames, so a steady response (the robot's
@@ -217,6 +218,14 @@ param_groups! {
             /// no escape saccade, gains 4 points of arena success with it (`docs/ablation.md`). See
             /// `docs/model.md`, "Closed-loop mechanisms".
             short_row: Option<NonZeroU8> = Range::Int(0, HEIGHT as i64 - 1),
+            /// Standing, the short mode's test counts a field that the retina's side border cuts
+            /// at the whole field's size: its response times its square's width over the columns
+            /// the retina shows of it ([`crate::model::lplc2::uncut_response`]). The camera's 70°
+            /// view ends where the fly's eye does not; an object at the border is at least as big
+            /// as its visible part, and Eq. (9) sums only what is visible. Driving, the border's
+            /// responses are mostly the robot's own flow (as for `border_arms`). `false`: the paper.
+            /// See `docs/model.md`, "Closed-loop mechanisms".
+            short_uncut: bool = Range::Int(0, 1),
         },
         /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
         swarm: SwarmLook {
@@ -307,6 +316,7 @@ impl Params {
             adapt_frames: None,
             short_cols: None,
             short_row: None,
+            short_uncut: false,
         },
         swarm: SwarmLook { look_change: None },
         firmware: FirmwareVariant {
@@ -830,7 +840,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 38);
+        assert_eq!(Params::NAMES.len(), 39);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));
@@ -854,7 +864,8 @@ mod tests {
     fn the_groups_cost_no_ram() {
         // the flat struct before the groups took 64 bytes; each group pads to its alignment,
         // and `T_a`, `T_d` as `u16`s leave Table I's group none; `t_a_quiet`, which acts only
-        // below `T_a`, is a `u16` too, so `noise_pct` fits the mechanisms' group
-        assert_eq!(core::mem::size_of::<Params>(), 64);
+        // below `T_a`, is a `u16` too, so `noise_pct` fits the mechanisms' group. 64 bytes
+        // until `short_uncut` took the short mode's group past its spare byte: 68
+        assert_eq!(core::mem::size_of::<Params>(), 68);
     }
 }

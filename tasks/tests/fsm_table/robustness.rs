@@ -142,6 +142,7 @@ proptest! {
         vals in proptest::collection::vec(any_f32(), 14),
         counts in proptest::collection::vec(any::<u32>(), 13),
         short_from_long in any::<bool>(),
+        gamma_turn in any::<bool>(),
         wander_stop_frames in proptest::option::of(0u32..100),
         swarm in any::<bool>(),
         frames in proptest::collection::vec((any_vm(), any_f32()), 1..50),
@@ -180,6 +181,7 @@ proptest! {
                 live_strength: counts[8] as u8,
                 escape_saccade: counts[9] != 0,
                 jump_frames: NonZeroU32::new(counts[12]),
+                gamma_turn,
             },
             swarm: Swarm {
                 spin_frames: counts[3],

@@ -76,7 +76,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
     // retirement, its correlator; the blind arms at the side borders; the exclusion zone; the
-    // run of growth a partial opening may stand on
+    // run of growth a partial opening may stand on; the short mode's whole cut fields
     let sixth = (
         prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
@@ -85,6 +85,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         any::<bool>(),
         prop_oneof![1 => Just(0u8), 1 => 1u8..=99],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
+        any::<bool>(),
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
@@ -93,7 +94,16 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
             (lm_shift, r_c, c_frac, q_floor, q_balance, q_arms),
             (warmup, flicker_pct, blocked_change, derotate, adapt_frames, q_grow_pct, t_a_quiet),
             (band_row, floor_row, short_cols, short_row, look_change, noise_pct),
-            (max_fields, t_lplc2, strict_retire, opponent, border_arms, r_x, q_grow_run),
+            (
+                max_fields,
+                t_lplc2,
+                strict_retire,
+                opponent,
+                border_arms,
+                r_x,
+                q_grow_run,
+                short_uncut,
+            ),
         )| Params {
             table1: TableOne {
                 w,
@@ -137,6 +147,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 adapt_frames: NonZeroU8::new(adapt_frames),
                 short_cols: NonZeroU8::new(short_cols),
                 short_row: NonZeroU8::new(short_row),
+                short_uncut,
             },
             swarm: SwarmLook {
                 look_change: NonZeroU8::new(look_change),

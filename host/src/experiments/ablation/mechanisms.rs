@@ -54,6 +54,7 @@ impl Model {
                 adapt_frames: NonZeroU8::new(30),
                 short_cols: NonZeroU8::new(23),
                 short_row: NonZeroU8::new(50),
+                ..Params::ALVS.short
             },
             ..Params::ALVS
         },

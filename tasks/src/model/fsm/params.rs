@@ -99,8 +99,8 @@ param_groups! {
             takeoff_drive: f32 = NON_NEG,
             /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
             /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
-            /// escape's run and the γ path keep `heading_gain`: the γ path's retreat and forward arc
-            /// need wheel speed a saturated turn would take). 1 turns like every
+            /// escape's run and the γ path keep `heading_gain`, unless `gamma_turn`: the γ path's
+            /// retreat and forward arc need wheel speed a saturated turn would take). 1 turns like every
             /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
             /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
             /// tens of degrees take most of a turn, and an obstacle first seen about a second before
@@ -144,6 +144,14 @@ param_groups! {
             /// threshold, `docs/notes/2026-11-27-authors-firmware.md`). `None`: `S` from the
             /// start (the paper).
             jump_frames: Option<NonZeroU32> = FRAMES,
+            /// The γ path's turns take the long takeoff's gain (`takeoff_gain` times
+            /// `heading_gain`) but keep the yaw limit `max_yaw_deg_s`, so that its retreat and
+            /// forward arc keep their wheel speed (the takeoff's unbounded turn would take it
+            /// all). `false`: `heading_gain`, as every turn of the paper's model. A short mode is
+            /// a threat close by; a P controller of 4/s spends most of a turn on its last tens
+            /// of degrees and leaves the robot facing a fast robot for most of a second (two
+            /// threats; `docs/model.md`, "Options the default leaves off").
+            gamma_turn: bool = Range::Int(0, 1),
         },
         /// The swarm behaviour: the spin, and the looks for moving objects.
         swarm: Swarm {
@@ -237,6 +245,7 @@ impl FsmParams {
             live_strength: 0,
             escape_saccade: false,
             jump_frames: None,
+            gamma_turn: false,
         },
         swarm: Swarm {
             spin_frames: 30,

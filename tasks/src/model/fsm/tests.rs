@@ -35,6 +35,7 @@ fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
                 takeoff_gain: 1.0,
                 takeoff_yaw_deg_s: 360.0,
                 jump_frames: None,
+                gamma_turn: false,
                 ..FsmParams::default().escape
             },
             swarm: Swarm {
@@ -311,6 +312,42 @@ fn a_long_takeoff_can_move_away_while_it_turns() {
     let v = (c.left_mm_s + c.right_mm_s) / 2.0;
     assert!(close(v, 103.9, 0.5), "{v}");
     assert!(c.left_mm_s < c.right_mm_s);
+}
+
+#[test]
+fn the_gamma_path_turns_like_the_takeoff_with_gamma_turn() {
+    // the first frame of a γ path from a threat at −35°: θ¹ 55° to the right
+    let first = |gamma_turn: bool| {
+        let p = FsmParams {
+            escape: Escape {
+                gamma_turn,
+                ..FsmParams::ALVS.escape
+            },
+            ..FsmParams::ALVS
+        };
+        let mut f = Fsm::new(p, Behaviour::Escape);
+        let vm = Visuomotor {
+            alert: true,
+            short_mode: true,
+            strength: 0.9,
+            theta_long: Some(145.0),
+            theta_short: Some([55.0, 145.0]),
+            ..Visuomotor::default()
+        };
+        let c = f.step(&vm, 0.0);
+        assert_eq!(c.state, State::ShortTakeoff);
+        let yaw = (c.left_mm_s - c.right_mm_s) / p.motion.track_mm;
+        (yaw.to_degrees(), (c.left_mm_s + c.right_mm_s) / 2.0)
+    };
+    let (slow, brisk) = (first(false), first(true));
+    // heading_gain 4/s: 220°/s; three times that, held to the paper's 360°/s
+    assert!(close(slow.0, 220.0, 1.0), "{slow:?}");
+    assert!(close(brisk.0, 360.0, 1.0), "{brisk:?}");
+    // the limit leaves the retreat its speed, S · 150 mm/s, in both
+    assert!(
+        close(slow.1, -135.0, 0.5) && close(brisk.1, -135.0, 0.5),
+        "{slow:?} {brisk:?}"
+    );
 }
 
 #[test]

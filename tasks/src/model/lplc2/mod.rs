@@ -133,6 +133,17 @@ pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
     (cx < half, cx + half > WIDTH - 1)
 }
 
+/// `Params::short_uncut`: the response `response` of the field centred on column `cx` with half
+/// side `r`, scaled to the whole square's width from the columns the retina shows of it
+/// (saturating; a field the side borders do not cut keeps its response).
+pub fn uncut_response(response: u32, cx: usize, r: u8) -> u32 {
+    let r = usize::from(r);
+    let shown = (cx + r).min(WIDTH - 1) + 1 - cx.saturating_sub(r).min(cx);
+    let whole = 2 * r + 1;
+    let scaled = u64::from(response) * whole as u64 / shown.clamp(1, whole) as u64;
+    scaled.min(u64::from(u32::MAX)) as u32
+}
+
 /// Eq. (9)'s excited quadrants with the quadrants on a cut side (`cut`, as [`cut_sides`]) also
 /// counted when their mirror image across the vertical axis is excited (`Params::border_arms`),
 /// provided one of the cut side's quadrants is excited by itself. What a cut side still sees

@@ -308,3 +308,22 @@ fn a_partial_opening_stands_only_on_a_growing_drive() {
     assert!(partial_opening_grows([1000; 4], &g, None, 50));
     assert!(partial_opening_grows(three, &g, None, 0));
 }
+
+#[test]
+fn a_cut_field_counts_at_its_whole_width() {
+    // in the middle the square (73 columns) is whole
+    assert_eq!(uncut_response(1_000, 49, 36), 1_000);
+    // at column 8 the retina shows columns 0..=44 of it: 45 of 73
+    assert_eq!(uncut_response(4_500, 8, 36), 7_300);
+    // at column 90, columns 54..=98
+    assert_eq!(uncut_response(4_500, 90, 36), 7_300);
+    // at the very edge 37 of 73
+    assert_eq!(uncut_response(3_700, 0, 36), 7_300);
+    assert_eq!(uncut_response(3_700, WIDTH - 1, 36), 7_300);
+    // nothing stays nothing, and a huge response saturates
+    assert_eq!(uncut_response(0, 0, 36), 0);
+    assert_eq!(uncut_response(u32::MAX, 0, 36), u32::MAX);
+    // a field wider than the retina is scaled by what it shows
+    assert_eq!(uncut_response(99, 49, 99), 199);
+    assert_eq!(uncut_response(5, 3, 0), 5);
+}
