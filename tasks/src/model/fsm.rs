@@ -649,16 +649,13 @@ impl Fsm {
             State::ShortTakeoff => match self.short_phase {
                 Some(ShortPhase::Turn) => (
                     s * p.motion.max_escape_mm_s,
-                    self.gamma_turn(self.setpoint2, h),
+                    self.gamma_yaw(self.setpoint2, h),
                 ),
                 // phase 1: reverse for at most `retreat_frames` (frames count from the entry)
                 _ if self.frames >= p.timing.retreat_frames => {
-                    (0.0, self.gamma_turn(self.setpoint, h))
+                    (0.0, self.gamma_yaw(self.setpoint, h))
                 }
-                _ => (
-                    -s * p.motion.retreat_mm_s,
-                    self.gamma_turn(self.setpoint, h),
-                ),
+                _ => (-s * p.motion.retreat_mm_s, self.gamma_yaw(self.setpoint, h)),
             },
             State::Spin => (0.0, p.swarm.spin_deg_s.to_radians()),
             // stand to look once facing the direction to look in
@@ -679,16 +676,15 @@ impl Fsm {
         yaw_rate_rad_s(heading_error_deg(setpoint, h), &self.params)
     }
 
-    /// The yaw rate of the γ path's turns, rad/s: the heading controller's, with the takeoff's
-    /// gain when `FsmParams::gamma_turn` (the yaw limit stays, so the retreat keeps its speed).
-    fn gamma_turn(&self, setpoint: f32, h: f32) -> f32 {
+    /// The yaw rate of the γ path's turns, rad/s: the heading controller's ([`Fsm::steer`]), or
+    /// with `FsmParams::gamma_turn` the takeoff's gain under the same limit, so the retreat
+    /// keeps its speed.
+    fn gamma_yaw(&self, setpoint: f32, h: f32) -> f32 {
         let p = &self.params;
-        let gain = if p.escape.gamma_turn {
-            p.escape.takeoff_gain
-        } else {
-            1.0
-        };
-        let yaw = gain * p.motion.heading_gain * heading_error_deg(setpoint, h);
+        if !p.escape.gamma_turn {
+            return self.steer(setpoint, h);
+        }
+        let yaw = p.escape.takeoff_gain * p.motion.heading_gain * heading_error_deg(setpoint, h);
         limit(yaw, p.motion.max_yaw_deg_s).to_radians()
     }
 

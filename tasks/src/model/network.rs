@@ -444,7 +444,7 @@ impl Network {
         }
         let mut vm = Visuomotor::from_fields(afs.iter().map(|a| (a.x, a.lplc2)), &p);
         if p.short.short_uncut && !self.driving {
-            // `Params::short_uncut`: standing, a field cut by the side border counts whole
+            // `Params::short_uncut`: not driving, a field cut by a side border counts whole
             let uncut = afs.iter().fold(0u32, |acc, a| {
                 acc.saturating_add(lplc2::uncut_response(
                     a.lplc2,
@@ -452,7 +452,8 @@ impl Network {
                     p.table1.r_af,
                 ))
             });
-            vm.short_mode = uncut > p.table1.t_s;
+            // the uncut sum is at least ΣLPLC2: the short mode only widens
+            vm.short_mode |= uncut > p.table1.t_s;
         }
         if let Some(frames) = p.short.adapt_frames {
             // motion adaptation: the short mode needs a response above twice its recent mean

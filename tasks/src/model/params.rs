@@ -218,13 +218,15 @@ param_groups! {
             /// no escape saccade, gains 4 points of arena success with it (`docs/ablation.md`). See
             /// `docs/model.md`, "Closed-loop mechanisms".
             short_row: Option<NonZeroU8> = Range::Int(0, HEIGHT as i64 - 1),
-            /// Standing, the short mode's test counts a field that the retina's side border cuts
-            /// at the whole field's size: its response times its square's width over the columns
-            /// the retina shows of it ([`crate::model::lplc2::uncut_response`]). The camera's 70°
-            /// view ends where the fly's eye does not; an object at the border is at least as big
-            /// as its visible part, and Eq. (9) sums only what is visible. Driving, the border's
-            /// responses are mostly the robot's own flow (as for `border_arms`). `false`: the paper.
-            /// See `docs/model.md`, "Closed-loop mechanisms".
+            /// While the robot does not drive forward (as for `border_arms`), the short mode's test
+            /// counts a field that a side border of the retina cuts at the whole field's size: its
+            /// response times its square's width over the columns the retina shows of it
+            /// ([`crate::model::lplc2::uncut_response`]; with `r_af` 36 every field centred off
+            /// columns 36–62). The camera's 70° view ends where the fly's eye does not; an object
+            /// at the border is at least as big as its visible part, and Eq. (9) sums only what
+            /// is visible. Driving, the border's responses are mostly the robot's own flow.
+            /// Alerts, `X̄` and `S` are unchanged. `false`: the paper. See `docs/model.md`,
+            /// "Options the default leaves off".
             short_uncut: bool = Range::Int(0, 1),
         },
         /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
@@ -865,7 +867,7 @@ mod tests {
         // the flat struct before the groups took 64 bytes; each group pads to its alignment,
         // and `T_a`, `T_d` as `u16`s leave Table I's group none; `t_a_quiet`, which acts only
         // below `T_a`, is a `u16` too, so `noise_pct` fits the mechanisms' group. 64 bytes
-        // until `short_uncut` took the short mode's group past its spare byte: 68
+        // until `short_uncut`'s byte took the whole past a multiple of its 4-byte alignment: 68
         assert_eq!(core::mem::size_of::<Params>(), 68);
     }
 }

@@ -1,13 +1,15 @@
 //! Properties of the network run on generated frames and parameters: bounded and consistent
-//! outputs, a standing robot's looks, the field capacity, determinism; and the regression of
+//! outputs, a standing robot's looks, the field capacity, what `short_uncut` changes,
+//! determinism; and the regression of
 //! the threat's centroid under saturated responses.
 
 use super::*;
 use alvs_tasks::model::closed_loop::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::closed_loop::floor::nearest_foot;
 use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
+use alvs_tasks::model::lplc2::uncut_response;
 use alvs_tasks::model::network::DRIVING_MM_S;
-use alvs_tasks::model::params::{Choices, Mechanisms, TableOne};
+use alvs_tasks::model::params::{Choices, Mechanisms, ShortGates, TableOne};
 use std::cell::Cell;
 
 /// Turns reported between frames (`Network::turned`): mostly what a robot turns in a frame,
@@ -171,6 +173,65 @@ fn the_field_capacity_is_reached_but_never_exceeded() {
     if let Err(e) = result {
         panic!("{e}");
     }
+}
+
+/// `Params::short_uncut` widens the short mode and changes nothing else: on any frames and
+/// parameters, driving or not, the outputs with and without it differ only in `short_mode`,
+/// which it turns on, never off, and only while the robot does not drive forward. The run must
+/// also see it widen, or it proves little.
+#[test]
+fn counting_cut_fields_whole_only_widens_the_short_mode() {
+    let widened = Cell::new(0);
+    let mut runner = TestRunner::new(config(128));
+    let result = runner.run(
+        &(valid_params(), sequence(), any::<bool>()),
+        |(p, specs, driving)| {
+            let with = |short_uncut, t_s| Params {
+                table1: TableOne { t_s, ..p.table1 },
+                short: ShortGates {
+                    short_uncut,
+                    ..p.short
+                },
+                ..p
+            };
+            let frames = render(&specs);
+            let speed = if driving { 150.0 } else { 0.0 };
+            // `T_s` at the first frame's ΣLPLC2 whose cut fields counted whole are more, so
+            // that the option has something to widen (`T_s` changes nothing but the short mode)
+            let mut probe = Network::new(with(false, p.table1.t_s)).unwrap();
+            let t_s = frames
+                .iter()
+                .find_map(|f| {
+                    probe.driving(speed);
+                    let o = probe.step(f);
+                    let uncut = o.afs.iter().fold(0u32, |acc, a| {
+                        acc.saturating_add(uncut_response(a.lplc2, a.x.into(), p.table1.r_af))
+                    });
+                    (uncut > o.vm.lplc2_sum).then_some(o.vm.lplc2_sum)
+                })
+                .unwrap_or(p.table1.t_s);
+            let mut on = Network::new(with(true, t_s)).unwrap();
+            let mut off = Network::new(with(false, t_s)).unwrap();
+            for f in &frames {
+                on.driving(speed);
+                off.driving(speed);
+                let (mut a, b) = (on.step(f), off.step(f));
+                prop_assert!(a.short_mode() || !b.short_mode(), "{:?} {:?}", a.vm, b.vm);
+                if a.short_mode() != b.short_mode() {
+                    prop_assert!(!driving);
+                    widened.set(widened.get() + 1);
+                }
+                a.vm.short_mode = b.vm.short_mode;
+                prop_assert_eq!(a, b);
+            }
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    let widened = widened.get();
+    assert!(widened >= 3, "widened on {widened} frames only");
 }
 
 /// Two fresh networks fed the same frames give identical outputs; so do a clone taken midway

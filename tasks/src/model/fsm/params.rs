@@ -100,8 +100,8 @@ param_groups! {
             /// Heading gain of the long takeoff's turn and of the saccades (the escape saccade, the
             /// turn away from an obstacle close ahead), as a multiple of `heading_gain` (wander, the
             /// escape's run and the γ path keep `heading_gain`, unless `gamma_turn`: the γ path's
-            /// retreat and forward arc need wheel speed a saturated turn would take). 1 turns like every
-            /// other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
+            /// retreat and forward arc need wheel speed a saturated turn would take). 1 turns like
+            /// every other turn (the paper's model); the default 3, with `takeoff_yaw_deg_s` at the wheels'
             /// limit, turns 150° in about 0.3 s instead of 0.7 s: with a P controller of 4/s the last
             /// tens of degrees take most of a turn, and an obstacle first seen about a second before
             /// contact arrives while the robot is still turning (issue 30's trace of two threats,

@@ -135,13 +135,15 @@ pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
 
 /// `Params::short_uncut`: the response `response` of the field centred on column `cx` with half
 /// side `r`, scaled to the whole square's width from the columns the retina shows of it
-/// (saturating; a field the side borders do not cut keeps its response).
+/// (saturating). Only a field centred `r` or more columns from both side borders is whole
+/// (with Table I's 36: columns 36–62); a centre off the retina counts as one column shown.
 pub fn uncut_response(response: u32, cx: usize, r: u8) -> u32 {
     let r = usize::from(r);
-    let shown = (cx + r).min(WIDTH - 1) + 1 - cx.saturating_sub(r).min(cx);
+    let (left, right) = (cx.saturating_sub(r), cx.saturating_add(r).min(WIDTH - 1));
     let whole = 2 * r + 1;
-    let scaled = u64::from(response) * whole as u64 / shown.clamp(1, whole) as u64;
-    scaled.min(u64::from(u32::MAX)) as u32
+    let shown = (right.saturating_sub(left) + 1).min(whole);
+    let scaled = u64::from(response) * whole as u64 / shown as u64;
+    u32::try_from(scaled).unwrap_or(u32::MAX)
 }
 
 /// Eq. (9)'s excited quadrants with the quadrants on a cut side (`cut`, as [`cut_sides`]) also

@@ -323,7 +323,14 @@ fn a_cut_field_counts_at_its_whole_width() {
     // nothing stays nothing, and a huge response saturates
     assert_eq!(uncut_response(0, 0, 36), 0);
     assert_eq!(uncut_response(u32::MAX, 0, 36), u32::MAX);
-    // a field wider than the retina is scaled by what it shows
+    // whole from column 36 to 62, cut by one column outside them
+    assert_eq!(uncut_response(7_200, 36, 36), 7_200);
+    assert_eq!(uncut_response(7_200, 35, 36), 7_300);
+    assert_eq!(uncut_response(7_200, 62, 36), 7_200);
+    assert_eq!(uncut_response(7_200, 63, 36), 7_300);
+    // a field wider than the retina is scaled by what it shows; a one-column field is whole
     assert_eq!(uncut_response(99, 49, 99), 199);
     assert_eq!(uncut_response(5, 3, 0), 5);
+    // a centre off the retina (no field has one) does not panic
+    assert_eq!(uncut_response(5, usize::MAX, 36), 365);
 }
