@@ -150,6 +150,21 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     assert!(d.collisions < t.collisions, "{}", table_one.table());
 }
 
+/// The default's evasion on seed 1 with the obstacle starting 100 mm away, one parameter set.
+fn from_100_mm(param: &str, value: &str) -> evasion::ControllerEvasion {
+    let mut params = alvs_tasks::Params::default();
+    params.set(param, value).unwrap();
+    let config = EvasionConfig {
+        controllers: alvs_only(),
+        seed: 1,
+        distance_mm: Some(100.0),
+        params,
+        ..EvasionConfig::default()
+    };
+    let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+    r.controllers[0].clone()
+}
+
 /// An obstacle already 100 mm away when the robot starts looking approaches steadily: its drive
 /// grows some 10 % a frame, never the +50 % step of `q_grow_pct`, once the warm-up has passed
 /// its onset. On seed 1 the default never alerts on it at −17.5° and is hit; with
@@ -157,19 +172,7 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
 /// mostly with the γ path, and nothing collides (docs/notes/2026-11-28-edge-history.md).
 #[test]
 fn a_run_of_growth_lets_an_obstacle_first_seen_close_alert() {
-    let run = |q_grow_run: &str| {
-        let mut params = alvs_tasks::Params::default();
-        params.set("q_grow_run", q_grow_run).unwrap();
-        let config = EvasionConfig {
-            controllers: alvs_only(),
-            seed: 1,
-            distance_mm: Some(100.0),
-            params,
-            ..EvasionConfig::default()
-        };
-        let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
-        r.controllers[0].clone()
-    };
+    let run = |value| from_100_mm("q_grow_run", value);
     let (before, after) = (run("0"), run("3"));
     assert_eq!(before.alerted, 8, "{before:?}");
     assert!(before.collisions >= 1, "{before:?}");
@@ -188,19 +191,7 @@ fn a_run_of_growth_lets_an_obstacle_first_seen_close_alert() {
 /// tuning seed; held out in docs/notes/2026-11-28-the-gamma-path.md).
 #[test]
 fn a_field_cut_by_the_border_counts_whole_for_the_short_mode() {
-    let run = |short_uncut: &str| {
-        let mut params = alvs_tasks::Params::default();
-        params.set("short_uncut", short_uncut).unwrap();
-        let config = EvasionConfig {
-            controllers: alvs_only(),
-            seed: 1,
-            distance_mm: Some(100.0),
-            params,
-            ..EvasionConfig::default()
-        };
-        let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
-        r.controllers[0].clone()
-    };
+    let run = |value| from_100_mm("short_uncut", value);
     let (before, after) = (run("0"), run("1"));
     let short = Some(State::ShortTakeoff.name());
     let edges = |r: &evasion::ControllerEvasion| -> Vec<bool> {

@@ -52,6 +52,13 @@ pub fn spawn_threshold((on, off, sampled): (u32, u32, u32), p: &Params) -> u32 {
     quiet + ((u64::from(t_a - quiet) * u64::from(share)) / u64::from(busy)) as u32
 }
 
+/// The pixels `c − r ..= c + r` along an axis of `len` pixels, clipped to it (inclusive): one
+/// side of a field's square ([`Field::square`]).
+#[inline(always)]
+pub fn span(c: usize, r: usize, len: usize) -> (usize, usize) {
+    (c.saturating_sub(r), c.saturating_add(r).min(len - 1))
+}
+
 /// One attention field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Field {
@@ -93,10 +100,10 @@ impl Field {
 
     /// The square of half side `r` around the centroid, clipped: `((x0, x1), (y0, y1))` inclusive.
     pub fn square(&self, r: u8) -> ((usize, usize), (usize, usize)) {
-        let (x, y, r) = (usize::from(self.x), usize::from(self.y), usize::from(r));
+        let r = usize::from(r);
         (
-            (x.saturating_sub(r), (x + r).min(WIDTH - 1)),
-            (y.saturating_sub(r), (y + r).min(HEIGHT - 1)),
+            span(usize::from(self.x), r, WIDTH),
+            span(usize::from(self.y), r, HEIGHT),
         )
     }
 

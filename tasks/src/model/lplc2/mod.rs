@@ -139,7 +139,7 @@ pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
 /// (with Table I's 36: columns 36–62); a centre off the retina counts as one column shown.
 pub fn uncut_response(response: u32, cx: usize, r: u8) -> u32 {
     let r = usize::from(r);
-    let (left, right) = (cx.saturating_sub(r), cx.saturating_add(r).min(WIDTH - 1));
+    let (left, right) = crate::model::attention::span(cx, r, WIDTH);
     let whole = 2 * r + 1;
     let shown = (right.saturating_sub(left) + 1).min(whole);
     let scaled = u64::from(response) * whole as u64 / shown as u64;
