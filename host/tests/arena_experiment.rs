@@ -453,11 +453,13 @@ fn cli_model_paper_runs_the_papers_perception_and_motion() {
             "--fsm",
             "jump_frames=6",
             "--fsm",
+            "gamma_turn=1",
+            "--fsm",
             "look_every=45"
         ]),
         ("paper".into(), "alvs".into()),
         "the default's FSM is the paper's with the escape saccade, the moving takeoff, brisk \
-         turns, the takeoff's jump and the swarm's looks"
+         turns, the takeoff's jump, the γ path's turn and the swarm's looks"
     );
     assert_eq!(
         run(&["--fsm", "settle_frames=2"]),

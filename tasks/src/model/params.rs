@@ -225,8 +225,9 @@ param_groups! {
             /// columns 36–62). The camera's 70° view ends where the fly's eye does not; an object
             /// at the border is at least as big as its visible part, and Eq. (9) sums only what
             /// is visible. Driving, the border's responses are mostly the robot's own flow.
-            /// Alerts, `X̄` and `S` are unchanged. `false`: the paper. See `docs/model.md`,
-            /// "Options the default leaves off".
+            /// Alerts, `X̄` and `S` are unchanged. `false`: the paper. In the default with
+            /// `FsmParams::gamma_turn`, without which it costs two threats; see
+            /// `docs/model.md`, "Closed-loop mechanisms".
             short_uncut: bool = Range::Int(0, 1),
         },
         /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
@@ -333,7 +334,7 @@ impl Params {
     /// mechanisms a robot in closed loop needs that the paper leaves out, each a parameter
     /// that earns its place on the held-out seeds (`docs/ablation.md`). The firmware runs
     /// these. The options that did not earn it (`blocked_change`, `adapt_frames`,
-    /// `short_cols`, `short_row`) stay off.
+    /// `short_cols`, `short_row`, `q_grow_run`) stay off.
     pub const ALVS: Params = Params {
         choices: Choices {
             q_arms: 3,
@@ -347,6 +348,10 @@ impl Params {
             q_grow_run: None,
             t_a_quiet: NonZeroU16::new(30),
             border_arms: true,
+        },
+        short: ShortGates {
+            short_uncut: true,
+            ..Params::PAPER.short
         },
         efference: Efference {
             derotate: true,

@@ -101,7 +101,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 19] = [
+pub const MECHANISMS: [Mechanism; 21] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -197,6 +197,13 @@ pub const MECHANISMS: [Mechanism; 19] = [
         copy: |m, s| m.params.short.short_row = s.params.short.short_row,
     },
     Mechanism {
+        name: "uncut",
+        what: "standing, a field the view's side border cuts counts whole for T_s",
+        fields: "short_uncut",
+        escape: true,
+        copy: |m, s| m.params.short.short_uncut = s.params.short.short_uncut,
+    },
+    Mechanism {
         name: "t-s",
         what: "T_s 5500 instead of Table I's 7000",
         fields: "t_s",
@@ -233,6 +240,13 @@ pub const MECHANISMS: [Mechanism; 19] = [
         fields: "jump_frames",
         escape: true,
         copy: |m, s| m.fsm.escape.jump_frames = s.fsm.escape.jump_frames,
+    },
+    Mechanism {
+        name: "gamma-turn",
+        what: "the γ path turns with the takeoff's gain, under the yaw limit",
+        fields: "gamma_turn",
+        escape: true,
+        copy: |m, s| m.fsm.escape.gamma_turn = s.fsm.escape.gamma_turn,
     },
     Mechanism {
         name: "swarm-look",

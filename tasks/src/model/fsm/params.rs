@@ -150,7 +150,7 @@ param_groups! {
             /// all). `false`: `heading_gain`, as every turn of the paper's model. A short mode is
             /// a threat close by; a P controller of 4/s spends most of a turn on its last tens
             /// of degrees and leaves the robot facing a fast robot for most of a second (two
-            /// threats; `docs/model.md`, "Options the default leaves off").
+            /// threats; `docs/model.md`, "Visuomotor and FSM choices").
             gamma_turn: bool = Range::Int(0, 1),
         },
         /// The swarm behaviour: the spin, and the looks for moving objects.
@@ -262,8 +262,9 @@ impl FsmParams {
     /// The default (`--model alvs`, the firmware's): [`FsmParams::PAPER`] plus the closed-loop
     /// mechanisms of the FSM that are measured to help (`docs/experiments.md`, "Closed-loop
     /// mechanisms"): the escape saccade, a takeoff that moves at half the escape speed while
-    /// it turns, takeoff turns three times as brisk and limited by the wheels only, and the
-    /// swarm's looks.
+    /// it turns, takeoff turns three times as brisk and limited by the wheels only, the
+    /// takeoff's jump, a γ path that turns as briskly under the yaw limit, and the swarm's
+    /// looks.
     pub const ALVS: FsmParams = FsmParams {
         escape: Escape {
             escape_saccade: true,
@@ -271,6 +272,7 @@ impl FsmParams {
             takeoff_gain: 3.0,
             takeoff_yaw_deg_s: f32::INFINITY,
             jump_frames: NonZeroU32::new(6),
+            gamma_turn: true,
             ..FsmParams::PAPER.escape
         },
         swarm: Swarm {

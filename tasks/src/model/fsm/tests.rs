@@ -26,7 +26,7 @@ fn the_groups_cost_no_ram() {
 #[test]
 fn the_papers_motion_has_none_of_the_fsm_mechanisms() {
     // the default is the paper's plus the escape saccade, the moving takeoff, brisk
-    // saccades, the takeoff's jump and the swarm's looks, nothing else
+    // saccades, the takeoff's jump, the brisk γ path and the swarm's looks, nothing else
     assert_eq!(
         FsmParams {
             escape: Escape {
