@@ -11,7 +11,7 @@
 //! each one changes something.
 
 use alvs_tasks::model::fsm::FsmParams;
-use alvs_tasks::model::params::{Efference, ShortGates, TableOne};
+use alvs_tasks::model::params::{Efference, Mechanisms, ShortGates, TableOne};
 use alvs_tasks::Params;
 use core::num::NonZeroU8;
 use serde::Serialize;
@@ -39,12 +39,17 @@ impl Model {
         fsm: FsmParams::PAPER,
     };
     /// The default with every option on too, at the values they had while they were in the
-    /// default (before the ablation on the held-out seeds took them out).
+    /// default (before the ablation on the held-out seeds took them out), `q_grow_run` at the
+    /// 3 frames its note measured.
     pub const ALL: Model = Model {
         params: Params {
             table1: TableOne {
                 t_s: 5500,
                 ..Params::ALVS.table1
+            },
+            mechanisms: Mechanisms {
+                q_grow_run: NonZeroU8::new(3),
+                ..Params::ALVS.mechanisms
             },
             efference: Efference {
                 blocked_change: NonZeroU8::new(2),
@@ -101,7 +106,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 21] = [
+pub const MECHANISMS: [Mechanism; 22] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -153,6 +158,13 @@ pub const MECHANISMS: [Mechanism; 21] = [
             m.params.choices.q_arms = s.params.choices.q_arms;
             m.params.mechanisms.q_grow_pct = s.params.mechanisms.q_grow_pct;
         },
+    },
+    Mechanism {
+        name: "grow-run",
+        what: "a partial opening also stands after its drive grew 3 frames in a row",
+        fields: "q_grow_run",
+        escape: true,
+        copy: |m, s| m.params.mechanisms.q_grow_run = s.params.mechanisms.q_grow_run,
     },
     Mechanism {
         name: "quiet-attention",
@@ -418,7 +430,10 @@ mod tests {
             .filter(|m| !m.in_default())
             .map(|m| m.name)
             .collect();
-        assert_eq!(off, ["blocked", "adapt", "short-path", "short-near", "t-s"]);
+        assert_eq!(
+            off,
+            ["blocked", "adapt", "grow-run", "short-path", "short-near", "t-s"]
+        );
     }
 
     #[test]
@@ -426,7 +441,7 @@ mod tests {
         for v in Variant::all() {
             assert_eq!(Variant::from_name(&v.name()), Ok(v));
         }
-        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(10)));
+        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(11)));
         assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(3)));
         let e = Variant::from_name("alvs-wings").unwrap_err();
         assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");
