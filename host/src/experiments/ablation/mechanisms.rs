@@ -432,7 +432,14 @@ mod tests {
             .collect();
         assert_eq!(
             off,
-            ["blocked", "adapt", "grow-run", "short-path", "short-near", "t-s"]
+            [
+                "blocked",
+                "adapt",
+                "grow-run",
+                "short-path",
+                "short-near",
+                "t-s"
+            ]
         );
     }
 
