@@ -1,6 +1,7 @@
 //! The output invariants: `check`, every documented bound and relation of one output.
 
 use super::*;
+use alvs_tasks::model::lplc2::uncut_response;
 
 /// `a` and `b` are the same angle up to `tol` degrees.
 fn same_angle(a: f32, b: f32, tol: f32) -> bool {
@@ -10,6 +11,14 @@ fn same_angle(a: f32, b: f32, tol: f32) -> bool {
 
 fn in_half_open_circle(a: f32) -> bool {
     a.is_finite() && a > -180.0 && a <= 180.0
+}
+
+/// ΣLPLC2 of `out`'s fields with each one a side border cuts counted at its whole width
+/// (`Params::short_uncut`, [`uncut_response`]).
+pub(crate) fn uncut_sum(out: &Perception, r_af: u8) -> u32 {
+    out.afs.iter().fold(0u32, |acc, a| {
+        acc.saturating_add(uncut_response(a.lplc2, a.x.into(), r_af))
+    })
 }
 
 /// Every documented bound and relation of one output, for the `index`-th frame.
@@ -110,12 +119,16 @@ pub(crate) fn check(
     let off_path = driving && off0(p.short.short_cols) > 0 && !vm.threat_x.is_some_and(in_path);
     // a driving robot's threat whose foot is far (`Params::short_row`) is not imminent either
     let far_gate = driving && off0(p.short.short_row) > 0;
+    // the short mode's test: ΣLPLC2 above `T_s`, or, standing with `Params::short_uncut`, the
+    // sum with the fields a side border cuts counted whole
+    let over = vm.lplc2_sum > p.table1.t_s
+        || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s);
     if off0(p.short.adapt_frames) == 0 && !off_path && !far_gate {
-        prop_assert_eq!(vm.short_mode, vm.lplc2_sum > p.table1.t_s, "{}", ctx());
+        prop_assert_eq!(vm.short_mode, over, "{}", ctx());
     } else {
         // motion adaptation, a threat off the path of a driving robot (`Params::short_cols`)
         // and one far ahead of it (`Params::short_row`) can only hold the short mode back
-        prop_assert!(!vm.short_mode || vm.lplc2_sum > p.table1.t_s, "{}", ctx());
+        prop_assert!(!vm.short_mode || over, "{}", ctx());
         prop_assert!(!vm.short_mode || !off_path, "{}", ctx());
     }
     prop_assert!(!vm.short_mode || vm.alert, "{}", ctx());

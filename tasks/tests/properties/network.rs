@@ -7,7 +7,6 @@ use super::*;
 use alvs_tasks::model::closed_loop::derotate::MAX_TURN_DEG;
 use alvs_tasks::model::closed_loop::floor::nearest_foot;
 use alvs_tasks::model::closed_loop::movers::{Movers, Sighting, SETTLE_FRAMES, SPAN_FRAMES};
-use alvs_tasks::model::lplc2::uncut_response;
 use alvs_tasks::model::network::DRIVING_MM_S;
 use alvs_tasks::model::params::{Choices, Mechanisms, ShortGates, TableOne};
 use std::cell::Cell;
@@ -204,10 +203,7 @@ fn counting_cut_fields_whole_only_widens_the_short_mode() {
                 .find_map(|f| {
                     probe.driving(speed);
                     let o = probe.step(f);
-                    let uncut = o.afs.iter().fold(0u32, |acc, a| {
-                        acc.saturating_add(uncut_response(a.lplc2, a.x.into(), p.table1.r_af))
-                    });
-                    (uncut > o.vm.lplc2_sum).then_some(o.vm.lplc2_sum)
+                    (uncut_sum(&o, p.table1.r_af) > o.vm.lplc2_sum).then_some(o.vm.lplc2_sum)
                 })
                 .unwrap_or(p.table1.t_s);
             let mut on = Network::new(with(true, t_s)).unwrap();
