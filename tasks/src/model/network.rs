@@ -357,7 +357,11 @@ impl Network {
             // `Params::border_arms`: standing, a quadrant the side border cuts off is blind
             let history = f.age >= u32::from(p.table1.d);
             if p.mechanisms.border_arms && !self.driving && history && l.response == 0 {
-                let cut = lplc2::cut_sides(usize::from(f.x), p.table1.r_af);
+                let cut = lplc2::cut_sides(
+                    usize::from(f.x),
+                    p.table1.r_af,
+                    p.mechanisms.border_crossing,
+                );
                 if lplc2::excited_at_border(l.quadrants, &gate, cut) >= usize::from(gate.arms) {
                     l.response = lplc2::drive(l.quadrants);
                 }

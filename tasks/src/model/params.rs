@@ -150,6 +150,14 @@ param_groups! {
             /// translation expands everything at the borders, so the mirror would read it as
             /// looming. `false`: the paper. See `docs/model.md`, "Closed-loop mechanisms".
             border_arms: bool = Range::Int(0, 1),
+            /// With `border_arms`: a side counts as cut as soon as the field's square (half side
+            /// `R_AF`) crosses the side border, not only when less than half of that half side lies
+            /// in the picture. An obstacle first seen close fills a third of the view or more, and
+            /// the attention centroid sits on its visible edges: a field 19–35 columns from the
+            /// border still has its outer quadrants partly beyond it, and the gate stayed shut
+            /// (`lplc2::cut_sides`). `false`: `R_AF / 2` (the default today; an option, see
+            /// `docs/model.md`, "Closed-loop mechanisms").
+            border_crossing: bool = Range::Int(0, 1),
         },
         /// Efference copies: what the robot's own turns and travel tell the network (not in the
         /// paper: off in [`Params::PAPER`]; `docs/model.md`, "Closed-loop mechanisms").
@@ -308,6 +316,7 @@ impl Params {
             q_grow_run: None,
             t_a_quiet: None,
             border_arms: false,
+            border_crossing: false,
         },
         efference: Efference {
             derotate: false,
@@ -335,7 +344,8 @@ impl Params {
     /// that earns its place on the held-out seeds (`docs/ablation.md`). The firmware runs
     /// these. The options that did not earn it (`blocked_change`, `adapt_frames`,
     /// `short_cols`, `short_row`) stay off, and so does `q_grow_run`, which failed the
-    /// robustness suite with the previous default and is the next candidate with this one.
+    /// robustness suite with the previous default and is the next candidate with this one,
+    /// together with `border_crossing`.
     pub const ALVS: Params = Params {
         choices: Choices {
             q_arms: 3,
@@ -349,6 +359,7 @@ impl Params {
             q_grow_run: None,
             t_a_quiet: NonZeroU16::new(30),
             border_arms: true,
+            border_crossing: false,
         },
         short: ShortGates {
             short_uncut: true,
@@ -848,7 +859,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 39);
+        assert_eq!(Params::NAMES.len(), 40);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));

@@ -76,7 +76,8 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
     );
     // the authors' firmware's switches: fields alive at once, its output threshold, its
     // retirement, its correlator; the blind arms at the side borders; the exclusion zone; the
-    // run of growth a partial opening may stand on; the short mode's whole cut fields
+    // run of growth a partial opening may stand on; the short mode's whole cut fields; a side
+    // cut once the square crosses it
     let sixth = (
         prop_oneof![1 => Just(MAX_AFS as u8), 1 => 1u8..=MAX_AFS as u8],
         prop_oneof![1 => Just(0u32), 1 => threshold()],
@@ -85,6 +86,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         any::<bool>(),
         prop_oneof![1 => Just(0u8), 1 => 1u8..=99],
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
+        any::<bool>(),
         any::<bool>(),
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
@@ -103,6 +105,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 r_x,
                 q_grow_run,
                 short_uncut,
+                border_crossing,
             ),
         )| Params {
             table1: TableOne {
@@ -136,6 +139,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 q_grow_run: NonZeroU8::new(q_grow_run),
                 t_a_quiet: NonZeroU16::new(t_a_quiet),
                 border_arms,
+                border_crossing,
             },
             efference: Efference {
                 blocked_change: NonZeroU8::new(blocked_change),

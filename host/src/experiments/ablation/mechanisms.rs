@@ -40,7 +40,7 @@ impl Model {
     };
     /// The default with every option on too, at the values they had while they were in the
     /// default (before the ablation on the held-out seeds took them out), `q_grow_run` at the
-    /// 3 frames its note measured.
+    /// 3 frames its note measured, `border_crossing` on.
     pub const ALL: Model = Model {
         params: Params {
             table1: TableOne {
@@ -49,6 +49,7 @@ impl Model {
             },
             mechanisms: Mechanisms {
                 q_grow_run: NonZeroU8::new(3),
+                border_crossing: true,
                 ..Params::ALVS.mechanisms
             },
             efference: Efference {
@@ -106,7 +107,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 22] = [
+pub const MECHANISMS: [Mechanism; 23] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -179,6 +180,13 @@ pub const MECHANISMS: [Mechanism; 22] = [
         fields: "border_arms",
         escape: true,
         copy: |m, s| m.params.mechanisms.border_arms = s.params.mechanisms.border_arms,
+    },
+    Mechanism {
+        name: "border-crossing",
+        what: "with border: a side is cut once the field's square crosses it",
+        fields: "border_crossing",
+        escape: true,
+        copy: |m, s| m.params.mechanisms.border_crossing = s.params.mechanisms.border_crossing,
     },
     Mechanism {
         name: "band",
@@ -436,6 +444,7 @@ mod tests {
                 "blocked",
                 "adapt",
                 "grow-run",
+                "border-crossing",
                 "short-path",
                 "short-near",
                 "t-s"
@@ -448,7 +457,7 @@ mod tests {
         for v in Variant::all() {
             assert_eq!(Variant::from_name(&v.name()), Ok(v));
         }
-        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(11)));
+        assert_eq!(Variant::from_name("alvs-floor"), Ok(Variant::Without(12)));
         assert_eq!(Variant::from_name("alvs+blocked"), Ok(Variant::Plus(3)));
         let e = Variant::from_name("alvs-wings").unwrap_err();
         assert!(e.contains("floor") && e.contains("alvs-M"), "{e}");

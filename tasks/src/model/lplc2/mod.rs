@@ -127,10 +127,15 @@ fn count(mask: [bool; 4]) -> usize {
 
 /// `Params::border_arms`: which sides of a field centred on column `cx` the retina's side
 /// borders cut, `(left, right)`: a side is cut when less than half of the field's half side `r`
-/// lies in the picture there.
-pub fn cut_sides(cx: usize, r: u8) -> (bool, bool) {
-    let half = usize::from(r).div_ceil(2);
-    (cx < half, cx + half > WIDTH - 1)
+/// lies in the picture there, or, with `crossing` (`Params::border_crossing`), when any of it
+/// lies beyond the border.
+pub fn cut_sides(cx: usize, r: u8, crossing: bool) -> (bool, bool) {
+    let reach = if crossing {
+        usize::from(r)
+    } else {
+        usize::from(r).div_ceil(2)
+    };
+    (cx < reach, cx + reach > WIDTH - 1)
 }
 
 /// `Params::short_uncut`: the response `response` of the field centred on column `cx` with half

@@ -53,15 +53,30 @@ fn gate_with_three_arms_lets_one_quadrant_be_quiet() {
 #[test]
 fn the_side_borders_cut_a_field_within_half_its_half_side() {
     // R_AF 36: 18 columns or more on a side keep that side
-    assert_eq!(cut_sides(17, 36), (true, false));
-    assert_eq!(cut_sides(18, 36), (false, false));
-    assert_eq!(cut_sides(49, 36), (false, false));
-    assert_eq!(cut_sides(80, 36), (false, false));
-    assert_eq!(cut_sides(81, 36), (false, true));
+    assert_eq!(cut_sides(17, 36, false), (true, false));
+    assert_eq!(cut_sides(18, 36, false), (false, false));
+    assert_eq!(cut_sides(49, 36, false), (false, false));
+    assert_eq!(cut_sides(80, 36, false), (false, false));
+    assert_eq!(cut_sides(81, 36, false), (false, true));
     // symmetric: columns in view on the cut side, 17 on both
-    assert_eq!(cut_sides(WIDTH - 1 - 17, 36), (false, true));
+    assert_eq!(cut_sides(WIDTH - 1 - 17, 36, false), (false, true));
     // a field wider than the retina is cut on both sides
-    assert_eq!(cut_sides(49, 99), (true, true));
+    assert_eq!(cut_sides(49, 99, false), (true, true));
+}
+
+#[test]
+fn with_border_crossing_a_side_is_cut_once_the_square_crosses_it() {
+    // R_AF 36: the square of a field centred on column 35 reaches column -1
+    assert_eq!(cut_sides(35, 36, true), (true, false));
+    assert_eq!(cut_sides(36, 36, true), (false, false));
+    assert_eq!(cut_sides(62, 36, true), (false, false));
+    assert_eq!(cut_sides(63, 36, true), (false, true));
+    // the half-side rule's cuts are kept: crossing only widens
+    for cx in 0..WIDTH {
+        let (l, r) = cut_sides(cx, 36, false);
+        let (lc, rc) = cut_sides(cx, 36, true);
+        assert!((!l || lc) && (!r || rc), "column {cx}");
+    }
 }
 
 #[test]
