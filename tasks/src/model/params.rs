@@ -153,7 +153,7 @@ param_groups! {
             /// With `border_arms`: a side counts as cut as soon as the field's square (half side
             /// `R_AF`) crosses the side border, not only when less than half of that half side lies
             /// in the picture. An obstacle first seen close fills a third of the view or more, and
-            /// the attention centroid sits on its visible edges: a field 19–35 columns from the
+            /// the attention centroid sits on its visible edges: a field 18–35 columns from the
             /// border still has its outer quadrants partly beyond it, and the gate stayed shut
             /// (`lplc2::cut_sides`). `false`: `R_AF / 2` (the default today; an option, see
             /// `docs/model.md`, "Closed-loop mechanisms").

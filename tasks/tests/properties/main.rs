@@ -14,7 +14,7 @@
 use alvs_tasks::model::param_table::off0;
 use alvs_tasks::{Network, Params, Perception, HEIGHT, MAX_AFS, PIXELS, WIDTH};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, TestCaseError, TestRng, TestRunner};
 
 mod frames;
 mod invariants;
