@@ -165,7 +165,7 @@ fn from_100_mm_before(photo: Option<&str>, param: &str, value: &str) -> evasion:
     let mut params = alvs_tasks::Params::default();
     params.set(param, value).unwrap();
     let background =
-        photo.map(|name| format!("{}/../data/photos/{name}", env!("CARGO_MANIFEST_DIR")).into());
+        photo.map(|name| format!("{}/../data/photos/{name}", env!("CARGO_MANIFEST_DIR")));
     let config = EvasionConfig {
         controllers: alvs_only(),
         seed: 1,
