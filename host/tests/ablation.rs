@@ -4,7 +4,7 @@
 //! and a split run merges into the whole one.
 
 use alvs_host::experiments::ablation::{
-    AblationConfig, AblationReport, Measured, Part, Variant, MECHANISMS,
+    AblationConfig, AblationReport, Measured, Part, Variant, CLOSE_MM, MECHANISMS,
 };
 use alvs_host::experiments::evasion::{self, EvasionConfig};
 use alvs_host::experiments::robustness::{Perturbation, RobustnessConfig, SuiteController};
@@ -28,6 +28,7 @@ fn small() -> AblationConfig {
         seeds: vec![11],
         variants: vec![Variant::Alvs, Variant::Without(index("escape-saccade"))],
         walls: vec![None],
+        close_walls: vec![None],
         minutes: 0.2,
         two_threat_runs: 3,
         clips: false,
@@ -87,28 +88,36 @@ fn each_part_is_the_experiments_own_run_with_the_variants_model() {
         ..FsmParams::ALVS
     };
     for (v, fsm) in [(0, FsmParams::ALVS), (1, without)] {
-        let e = evasion::run(
-            &EvasionConfig {
-                seed: 11,
-                controllers: vec![Kind::Alvs],
-                params: Params::ALVS,
-                fsm,
-                ..EvasionConfig::default()
-            },
-            1,
-            &|_| {},
-        )
-        .unwrap();
-        let c = &e.controllers[0];
-        assert_eq!(
-            cell(&r, &Part::Evasion { wall: None }, v),
-            &Measured::Evasion {
-                angles: 9,
-                correct: c.correct_side,
-                collisions: c.collisions,
-                gamma: c.gamma_paths().unwrap(),
-            }
-        );
+        // from the stage's longest distance, and from 100 mm: the obstacle first seen close
+        for from_mm in [None, Some(CLOSE_MM)] {
+            let e = evasion::run(
+                &EvasionConfig {
+                    seed: 11,
+                    controllers: vec![Kind::Alvs],
+                    params: Params::ALVS,
+                    fsm,
+                    distance_mm: from_mm,
+                    ..EvasionConfig::default()
+                },
+                1,
+                &|_| {},
+            )
+            .unwrap();
+            let c = &e.controllers[0];
+            let part = Part::Evasion {
+                wall: None,
+                from_mm,
+            };
+            assert_eq!(
+                cell(&r, &part, v),
+                &Measured::Evasion {
+                    angles: 9,
+                    correct: c.correct_side,
+                    collisions: c.collisions,
+                    gamma: c.gamma_paths().unwrap(),
+                }
+            );
+        }
         let two = two_threats::run(
             &TwoThreatConfig {
                 seed: 11,
@@ -146,6 +155,7 @@ fn the_clips_show_what_a_mechanism_does_to_the_first_alerts() {
         variants: vec![Variant::Alvs, Variant::Without(index("warmup"))],
         perturbations: vec![],
         walls: vec![],
+        close_walls: vec![],
         two_threat_runs: 0,
         clips: true,
         ..AblationConfig::default()
@@ -200,7 +210,8 @@ fn merged_ablation_shards_are_the_unsharded_run() {
             sweep::read(&path).unwrap()
         })
         .collect();
-    assert_eq!(config.trial_count(), 2 * 3);
+    // arena, evasion, evasion from 100 mm, two threats
+    assert_eq!(config.trial_count(), 2 * 4);
     assert_eq!(strip(sweep::merge(&config, &files).unwrap().json()), whole);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -220,7 +231,7 @@ fn cli_refuses_an_unknown_variant_in_one_line() {
     let help = succeed(alvs().args(["ablation", "--help"]));
     let help = String::from_utf8_lossy(&help.stdout);
     assert!(
-        help.contains("--variant") && help.contains("--wall"),
+        help.contains("--variant") && help.contains("--wall") && help.contains("--close-wall"),
         "{help}"
     );
 }

@@ -96,6 +96,13 @@ pub struct AblationArgs {
     /// specification. Default: world, outdoor:11 and data/photos/outdoor_2.jpg.
     #[arg(long = "wall", value_name = "SPEC")]
     walls: Vec<String>,
+    /// Wall of the evasion with the obstacle first seen close, 100 mm away (repeatable), as
+    /// --wall. Default: the same three walls.
+    #[arg(long = "close-wall", value_name = "SPEC", conflicts_with = "no_close")]
+    close_walls: Vec<String>,
+    /// Leave out the evasion with the obstacle first seen close.
+    #[arg(long)]
+    no_close: bool,
     /// Simulated minutes of an arena trial.
     #[arg(
         long,
@@ -133,13 +140,11 @@ impl Experiment for AblationArgs {
             seeds: given_or(&self.seeds, d.seeds),
             variants: given_or(&self.variants, d.variants),
             perturbations: given_or(&self.perturbations, d.perturbations),
-            walls: if self.walls.is_empty() {
-                d.walls
+            walls: walls_or(&self.walls, d.walls),
+            close_walls: if self.no_close {
+                Vec::new()
             } else {
-                self.walls
-                    .iter()
-                    .map(|w| (w != "world").then(|| w.clone()))
-                    .collect()
+                walls_or(&self.close_walls, d.close_walls)
             },
             robots: self.robots,
             minutes: self.minutes,
@@ -196,4 +201,16 @@ fn perturbation_parser() -> impl clap::builder::TypedValueParser<Value = Perturb
     use clap::builder::TypedValueParser;
     clap::builder::PossibleValuesParser::new(Perturbation::ALL.map(Perturbation::name))
         .try_map(|s| Perturbation::from_name(&s).map_err(|e| e.to_string()))
+}
+
+/// The walls given (`world`: the world's own), or the default's.
+fn walls_or(given: &[String], default: Vec<Option<String>>) -> Vec<Option<String>> {
+    if given.is_empty() {
+        default
+    } else {
+        given
+            .iter()
+            .map(|w| (w != "world").then(|| w.clone()))
+            .collect()
+    }
 }

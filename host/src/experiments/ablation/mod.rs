@@ -38,6 +38,12 @@ use alvs_sim::{frames_in, BuiltinWorld};
 /// photographs were used while the default was tuned in the lab world; none in the replica.
 pub const PHOTOGRAPH: &str = "data/photos/outdoor_2.jpg";
 
+/// Start distance of the evasion part with the obstacle first seen close, mm (centre to
+/// centre): issue 30, item 3 asks for the γ path as the first reaction to an obstacle first
+/// seen late, and from 100 mm at 100 mm/s the obstacle is 83–85 mm away when the warm-up ends
+/// (docs/notes/2026-11-28-the-gamma-path.md).
+pub const CLOSE_MM: f64 = 100.0;
+
 /// What to run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AblationConfig {
@@ -51,6 +57,9 @@ pub struct AblationConfig {
     pub perturbations: Vec<Perturbation>,
     /// Walls of the evasion part (`None`: the world's own), one evasion run per seed each.
     pub walls: Vec<Option<String>>,
+    /// Walls of the evasion with the obstacle first seen close ([`CLOSE_MM`] away), one run
+    /// per seed each (empty: no such part).
+    pub close_walls: Vec<Option<String>>,
     /// Robots in the arena.
     pub robots: usize,
     /// Simulated minutes of an arena trial.
@@ -64,7 +73,7 @@ pub struct AblationConfig {
 impl Default for AblationConfig {
     /// The replica, seeds 11–20, every variant, the arena unperturbed for 5 minutes with 3
     /// robots, evasion on the replica's ribs, a procedural outdoor scene and a photograph, 50
-    /// two-threat runs.
+    /// two-threat runs, and the evasion from [`CLOSE_MM`] on the same three walls.
     fn default() -> Self {
         AblationConfig {
             world: BuiltinWorld::Fu2019,
@@ -72,6 +81,7 @@ impl Default for AblationConfig {
             variants: Variant::all(),
             perturbations: vec![Perturbation::None],
             walls: vec![None, Some("outdoor:11".into()), Some(PHOTOGRAPH.into())],
+            close_walls: vec![None, Some("outdoor:11".into()), Some(PHOTOGRAPH.into())],
             robots: 3,
             minutes: 5.0,
             two_threat_runs: 50,
@@ -93,6 +103,10 @@ pub enum Part {
     Evasion {
         /// The wall's specification.
         wall: Option<String>,
+        /// Start distance of the obstacle, mm: `None`, the experiment's default (the stage's
+        /// longest); [`CLOSE_MM`] for the part with the obstacle first seen close.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        from_mm: Option<f64>,
     },
     /// Two threats.
     TwoThreats,
@@ -203,9 +217,16 @@ impl AblationConfig {
             .perturbations
             .iter()
             .map(|&perturbation| Part::Arena { perturbation });
-        let evasion = self.walls.iter().map(|w| Part::Evasion { wall: w.clone() });
+        let evasion = self.walls.iter().map(|w| Part::Evasion {
+            wall: w.clone(),
+            from_mm: None,
+        });
+        let close = self.close_walls.iter().map(|w| Part::Evasion {
+            wall: w.clone(),
+            from_mm: Some(CLOSE_MM),
+        });
         let two = (self.two_threat_runs > 0).then_some(Part::TwoThreats);
-        arena.chain(evasion).chain(two).collect()
+        arena.chain(evasion).chain(close).chain(two).collect()
     }
 
     /// Camera frames (per robot) of the whole run, for a progress bar: the arena trials'; the
@@ -225,7 +246,15 @@ impl AblationConfig {
             ..TwoThreatConfig::default()
         }
         .total_frames();
-        let per_seed = evasion * self.walls.len() as u64 + two;
+        let close = EvasionConfig {
+            world: self.world,
+            distance_mm: Some(CLOSE_MM),
+            ..EvasionConfig::default()
+        }
+        .total_frames()
+            / 2;
+        let per_seed =
+            evasion * self.walls.len() as u64 + close * self.close_walls.len() as u64 + two;
         let clips = if self.clips {
             crate::data::manifest().map_or(0, |m| m.iter().map(|c| c.frames as u64).sum())
         } else {
@@ -347,10 +376,11 @@ impl AblationConfig {
                     escaping,
                 })
             }
-            Part::Evasion { wall } => {
+            Part::Evasion { wall, from_mm } => {
                 let config = EvasionConfig {
                     world: self.world,
                     background: wall.clone(),
+                    distance_mm: *from_mm,
                     seed,
                     params: model.params,
                     fsm: model.fsm,

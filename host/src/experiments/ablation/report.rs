@@ -221,8 +221,11 @@ impl AblationReport {
                 c.minutes,
                 perturbation.name()
             ),
-            Part::Evasion { wall } => format!(
-                "evasion, 9 bearings, wall {}",
+            Part::Evasion { wall, from_mm } => format!(
+                "evasion{}, 9 bearings, wall {}",
+                from_mm.map_or(String::new(), |d| format!(
+                    " from {d:.0} mm (the obstacle first seen close)"
+                )),
                 wall.as_deref().unwrap_or("(the world's own)")
             ),
             Part::TwoThreats => format!("two threats, {} runs per seed", c.two_threat_runs),
@@ -377,11 +380,13 @@ impl Report for AblationReport {
                 Part::Evasion { .. } => {
                     let _ = writeln!(
                         t,
-                        "{:<24} {:>9} {:>7} {:>11} {:>7} {:>7} {:>11}",
+                        "{:<24} {:>9} {:>7} {:>11} {:>7} {:>7} {:>7} {:>7} {:>11}",
                         "variant",
                         "correct",
                         "change",
                         "collisions",
+                        "change",
+                        "γ first",
                         "change",
                         "worst",
                         "seeds 9/9,<=1"
@@ -391,34 +396,38 @@ impl Report for AblationReport {
                             angles,
                             correct,
                             collisions,
-                            ..
+                            gamma,
                         } = row(v).pooled
                         else {
                             continue;
                         };
                         let reference = self.reference(variant).map(|r| &row(r).pooled);
-                        let (dc, dk) = match reference {
+                        let (dc, dk, dg) = match reference {
                             Some(Measured::Evasion {
                                 correct: rc,
                                 collisions: rk,
+                                gamma: rg,
                                 ..
                             }) => (
                                 signed(correct as f64 - *rc as f64, 0),
                                 signed(collisions as f64 - *rk as f64, 0),
+                                signed(gamma as f64 - *rg as f64, 0),
                             ),
-                            _ => (String::new(), String::new()),
+                            _ => (String::new(), String::new(), String::new()),
                         };
                         let worst = row(v)
                             .worst_seed
                             .map_or("-".into(), |w| format!("{:.0}/9", 9.0 * w));
                         let _ = writeln!(
                             t,
-                            "{:<24} {:>9} {:>7} {:>11} {:>7} {:>7} {:>11}",
+                            "{:<24} {:>9} {:>7} {:>11} {:>7} {:>7} {:>7} {:>7} {:>11}",
                             variant.name(),
                             format!("{correct}/{angles}"),
                             dc,
                             format!("{collisions}/{angles}"),
                             dk,
+                            format!("{gamma}/{angles}"),
+                            dg,
                             worst,
                             format!("{}/{}", row(v).seeds_at_goal.unwrap_or(0), row(v).seeds)
                         );
