@@ -76,7 +76,10 @@ fn boots_to_the_banner_brings_the_camera_up_and_streams_frames() {
     assert!(log.contains("running: model alvs"), "{log}");
     // the closed-loop mechanisms the firmware runs, named in its banner
     assert!(
-        log.contains("derotate 1, gate 3 of 4 arms (growing 50 %), T_a 30 in a quiet scene"),
+        log.contains(
+            "derotate 1, gate 3 of 4 arms (growing 50 %, or on 3 frames in a row), T_a 30 in a \
+             quiet scene, blind border arms 1 (a side cut once the field crosses it 1)"
+        ),
         "{log}"
     );
     assert!(!log.contains("ERROR"), "{log}");

@@ -128,8 +128,8 @@ param_groups! {
             /// the robot starts looking approaches steadily, its drive growing some 10 % a frame,
             /// short of `q_grow_pct`'s per-frame step, which only an approach's onset or its last
             /// few frames reach; a receding object's or a residue's drive does not keep growing.
-            /// `None` (0): only `q_grow_pct`'s step (the default today). See `docs/model.md`,
-            /// "Closed-loop mechanisms".
+            /// `None` (0): only `q_grow_pct`'s step (the paper has neither); the default is 3. See
+            /// `docs/model.md`, "Closed-loop mechanisms".
             q_grow_run: Option<NonZeroU8> = Range::Int(0, 255),
             /// Attention threshold of a quiet scene: `T_a` (Eq. 3) falls towards this value as the
             /// share of the retina that changes falls below [`crate::model::attention::BUSY_PCT`], so
@@ -155,8 +155,8 @@ param_groups! {
             /// in the picture. An obstacle first seen close fills a third of the view or more, and
             /// the attention centroid sits on its visible edges: a field 18–35 columns from the
             /// border still has its outer quadrants partly beyond it, and the gate stayed shut
-            /// (`lplc2::cut_sides`). `false`: `R_AF / 2` (the default today; an option, see
-            /// `docs/model.md`, "Closed-loop mechanisms").
+            /// (`lplc2::cut_sides`). `false`: `R_AF / 2`; the default is `true`. See
+            /// `docs/model.md`, "Closed-loop mechanisms".
             border_crossing: bool = Range::Int(0, 1),
         },
         /// Efference copies: what the robot's own turns and travel tell the network (not in the
@@ -343,9 +343,7 @@ impl Params {
     /// mechanisms a robot in closed loop needs that the paper leaves out, each a parameter
     /// that earns its place on the held-out seeds (`docs/ablation.md`). The firmware runs
     /// these. The options that did not earn it (`blocked_change`, `adapt_frames`,
-    /// `short_cols`, `short_row`) stay off, and so does `q_grow_run`, which failed the
-    /// robustness suite with the previous default and is the next candidate with this one,
-    /// together with `border_crossing`.
+    /// `short_cols`, `short_row`) stay off.
     pub const ALVS: Params = Params {
         choices: Choices {
             q_arms: 3,
@@ -356,10 +354,10 @@ impl Params {
             flicker_pct: NonZeroU8::new(50),
             noise_pct: NonZeroU8::new(25),
             q_grow_pct: NonZeroU8::new(50),
-            q_grow_run: None,
+            q_grow_run: NonZeroU8::new(3),
             t_a_quiet: NonZeroU16::new(30),
             border_arms: true,
-            border_crossing: false,
+            border_crossing: true,
         },
         short: ShortGates {
             short_uncut: true,

@@ -438,18 +438,7 @@ mod tests {
             .filter(|m| !m.in_default())
             .map(|m| m.name)
             .collect();
-        assert_eq!(
-            off,
-            [
-                "blocked",
-                "adapt",
-                "grow-run",
-                "border-crossing",
-                "short-path",
-                "short-near",
-                "t-s"
-            ]
-        );
+        assert_eq!(off, ["blocked", "adapt", "short-path", "short-near", "t-s"]);
     }
 
     #[test]
