@@ -585,7 +585,7 @@ fn only_the_default_swarm_looks() {
 /// per spin (360°/s) it does not. The gathering needs the robots to see their own forward flow
 /// and nothing else while they drive (`Params::band_row` and `floor_row` 0, the default of an
 /// earlier round): with the default's band and floor line they wander on and the spread stays
-/// (330 → 301 mm, docs/experiments.md, "Swarm").
+/// (330 → 343 mm, docs/experiments.md, "Swarm").
 #[test]
 fn a_spinning_swarm_clusters_over_five_minutes() {
     let spin = |deg_s: f32| {
