@@ -123,14 +123,29 @@ pub(crate) fn sequence() -> impl Strategy<Value = Vec<Spec>> {
                 .map(|seed| Spec::Noise { seed, lo: 0, hi: 255 })
                 .collect()
         }),
-        2 => (0u8..99, 0u8..72, 1u8..=4, 2usize..=16, any::<u8>(), any::<u8>()).prop_map(
-            |(cx, cy, rate, n, fg, bg)| {
-                (0..n)
-                    .map(|i| Spec::Square { cx, cy, h: 1 + rate * i as u8, fg, bg })
-                    .collect()
-            }
-        ),
+        2 => growing_square(0u8..99, 0u8..72, 1u8..=4, 2usize..=16),
     ]
+}
+
+/// A square of any grey on any background, centred at a drawn `(cx, cy)`, whose side grows by
+/// a drawn `rate` pixels a frame over a drawn number of frames.
+pub(crate) fn growing_square(
+    cx: impl Strategy<Value = u8>,
+    cy: impl Strategy<Value = u8>,
+    rate: impl Strategy<Value = u8>,
+    frames: impl Strategy<Value = usize>,
+) -> impl Strategy<Value = Vec<Spec>> {
+    (cx, cy, rate, frames, any::<u8>(), any::<u8>()).prop_map(|(cx, cy, rate, n, fg, bg)| {
+        (0..n)
+            .map(|i| Spec::Square {
+                cx,
+                cy,
+                h: 1 + rate * i as u8,
+                fg,
+                bg,
+            })
+            .collect()
+    })
 }
 
 pub(crate) fn render(specs: &[Spec]) -> Vec<Frame> {

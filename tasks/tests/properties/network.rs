@@ -235,25 +235,7 @@ fn counting_cut_fields_whole_only_widens_the_short_mode() {
 /// (where `border_crossing` reads a side as cut) for long enough to be past the warm-up.
 fn near_a_side() -> impl Strategy<Value = Vec<Spec>> {
     let column = prop_oneof![0u8..36, 63u8..99];
-    let growing = (
-        column,
-        10u8..62,
-        1u8..=3,
-        12usize..=24,
-        any::<u8>(),
-        any::<u8>(),
-    )
-        .prop_map(|(cx, cy, rate, n, fg, bg)| {
-            (0..n)
-                .map(|i| Spec::Square {
-                    cx,
-                    cy,
-                    h: 1 + rate * i as u8,
-                    fg,
-                    bg,
-                })
-                .collect()
-        });
+    let growing = growing_square(column, 10u8..62, 1u8..=3, 12usize..=24);
     prop_oneof![1 => sequence(), 3 => growing]
 }
 
