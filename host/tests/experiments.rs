@@ -232,6 +232,45 @@ fn a_field_whose_square_crosses_the_border_counts_its_blind_side() {
     }
 }
 
+/// An obstacle first seen 100 mm away in front of a photograph alerts at −35° under `T_s`
+/// even counted whole (the photograph's texture halves the response) and starts a long
+/// takeoff. Its field was born 4 frames before: with `short_young` an alert in a field's
+/// first `d` frames starts the γ path; the other bearings do not change. From 450 mm the
+/// fields alert long after their birth, and nothing changes at all (seed 1, a tuning seed;
+/// held out in docs/notes/2026-11-28-first-seen-close-on-textured-walls.md).
+#[test]
+fn an_alert_in_a_young_field_starts_the_gamma_path() {
+    let run = |value| from_100_mm_before(Some("outdoor_1.jpg"), &[("short_young", value)]);
+    let (before, after) = (run("0"), run("1"));
+    let short = Some(State::ShortTakeoff.name());
+    for (b, a) in before.per_angle.iter().zip(&after.per_angle) {
+        if b.angle_deg == -35.0 {
+            assert_ne!(b.reaction, short, "{before:?}");
+            assert_eq!(a.reaction, short, "{after:?}");
+            assert!(a.correct_side && !a.collided, "{after:?}");
+        } else {
+            assert_eq!(b, a);
+        }
+    }
+    let from_afar = |value: &str| {
+        let mut params = alvs_tasks::Params::default();
+        params.set("short_young", value).unwrap();
+        let config = EvasionConfig {
+            controllers: alvs_only(),
+            seed: 1,
+            background: Some(format!(
+                "{}/../data/photos/outdoor_1.jpg",
+                env!("CARGO_MANIFEST_DIR")
+            )),
+            params,
+            ..EvasionConfig::default()
+        };
+        let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
+        r.controllers[0].per_angle.clone()
+    };
+    assert_eq!(from_afar("0"), from_afar("1"));
+}
+
 /// An obstacle first seen 100 mm away at the view's edge (±35°) is half outside the picture:
 /// its field's response stays under `T_s`, and counted as shown it starts a long takeoff. With
 /// `short_uncut` (the default) the short mode counts the cut field at its whole width, so both edge bearings

@@ -459,6 +459,11 @@ impl Network {
             // the uncut sum is at least ΣLPLC2: the short mode only widens
             vm.short_mode |= uncut > p.table1.t_s;
         }
+        if p.short.short_young && !self.driving {
+            // `Params::short_young`: not driving, an alert in a field's first `d` frames
+            let young = u32::from(p.table1.d);
+            vm.short_mode |= afs.iter().any(|a| a.lplc2 > 0 && a.age <= young);
+        }
         if let Some(frames) = p.short.adapt_frames {
             // motion adaptation: the short mode needs a response above twice its recent mean
             let sum = vm.lplc2_sum as f32;

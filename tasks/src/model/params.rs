@@ -237,6 +237,16 @@ param_groups! {
             /// `FsmParams::gamma_turn`, without which it costs two threats; see
             /// `docs/model.md`, "Closed-loop mechanisms".
             short_uncut: bool = Range::Int(0, 1),
+            /// While the robot does not drive forward (as for `short_uncut`), the short mode is also
+            /// on when a field alerts within its first `d` frames (Table I's `d`, the frames Eq. (10)
+            /// needs before it can judge a field): an object that alerts as soon as it is attended
+            /// was first seen close, too late for the long takeoff's turn. Age separates the
+            /// obstacle first seen close from one seen approaching from afar, whatever the wall's
+            /// contrast: at the view's edge their distances and responses at the first alert
+            /// overlap, their fields' ages do not (docs/notes/2026-11-28-first-seen-close-on-textured-walls.md).
+            /// Driving, new fields come from the robot's own flow all the time, so age says nothing.
+            /// `false`: the paper.
+            short_young: bool = Range::Int(0, 1),
         },
         /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
         swarm: SwarmLook {
@@ -329,6 +339,7 @@ impl Params {
             short_cols: None,
             short_row: None,
             short_uncut: false,
+            short_young: false,
         },
         swarm: SwarmLook { look_change: None },
         firmware: FirmwareVariant {
@@ -857,7 +868,7 @@ mod tests {
         assert_eq!(Params::NAMES.len(), Params::RANGES.len());
         assert_eq!(Params::NAMES.len(), Params::FIELDS.len());
         assert_eq!(Params::NAMES.len(), Params::WORDS.len());
-        assert_eq!(Params::NAMES.len(), 40);
+        assert_eq!(Params::NAMES.len(), 41);
         for (name, field) in Params::NAMES.iter().zip(Params::FIELDS) {
             assert_eq!(name.split_once('.').map(|(_, f)| f), Some(*field));
             assert_eq!(Params::range(name), Params::range(field));

@@ -2,6 +2,7 @@
 
 use super::*;
 use alvs_tasks::model::lplc2::uncut_response;
+use alvs_tasks::model::network::AfReport;
 
 /// `a` and `b` are the same angle up to `tol` degrees.
 fn same_angle(a: f32, b: f32, tol: f32) -> bool {
@@ -120,9 +121,12 @@ pub(crate) fn check(
     // a driving robot's threat whose foot is far (`Params::short_row`) is not imminent either
     let far_gate = driving && off0(p.short.short_row) > 0;
     // the short mode's test: ΣLPLC2 above `T_s`, or, standing with `Params::short_uncut`, the
-    // sum with the fields a side border cuts counted whole
+    // sum with the fields a side border cuts counted whole, or, standing with
+    // `Params::short_young`, an alert in a field's first `d` frames
+    let young = |f: &AfReport| f.lplc2 > 0 && f.age <= u32::from(p.table1.d);
     let over = vm.lplc2_sum > p.table1.t_s
-        || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s);
+        || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s)
+        || (p.short.short_young && !driving && out.afs.iter().any(young));
     if off0(p.short.adapt_frames) == 0 && !off_path && !far_gate {
         prop_assert_eq!(vm.short_mode, over, "{}", ctx());
     } else {

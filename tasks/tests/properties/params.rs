@@ -88,6 +88,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
         prop_oneof![1 => Just(0u8), 1 => any::<u8>()],
         any::<bool>(),
         any::<bool>(),
+        any::<bool>(),
     );
     let random = (first, second, third, fourth, fifth, sixth).prop_map(
         |(
@@ -106,6 +107,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 q_grow_run,
                 short_uncut,
                 border_crossing,
+                short_young,
             ),
         )| Params {
             table1: TableOne {
@@ -152,6 +154,7 @@ pub(crate) fn valid_params() -> impl Strategy<Value = Params> {
                 short_cols: NonZeroU8::new(short_cols),
                 short_row: NonZeroU8::new(short_row),
                 short_uncut,
+                short_young,
             },
             swarm: SwarmLook {
                 look_change: NonZeroU8::new(look_change),
