@@ -178,7 +178,7 @@ mod app {
             network
         });
         rprintln!(
-            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, noise frames below {} % neighbour correlation, derotate {}, gate {} of 4 arms (growing {} %, or on {} frames in a row), T_a {} in a quiet scene, blind border arms {} (a side cut once the field crosses it {}) and cut fields whole for T_s {} while standing, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, jump {} frames from standing, brisk gamma path {}, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
+            "running: model alvs = Table I (T_a {}, T_d {}, T_s {}) + warm-up {} frames, flicker {} %, noise frames below {} % neighbour correlation, derotate {}, gate {} of 4 arms (growing {} %, or on {} frames in a row), T_a {} in a quiet scene, blind border arms {} (a side cut once the field crosses it {}) and cut fields whole for T_s {} and the short mode on an alert in a field's first d frames {} while standing, fields above row {} silent and the floor line at row {} while driving, escape saccade {}, jump {} frames from standing, brisk gamma path {}, {} B of model state, motors off until {} frames primed it; type h to hold them, g to let go; behaviour {} (type s for the swarm's spin, e to escape)",
             alvs_tasks::Params::ALVS.table1.t_a,
             alvs_tasks::Params::ALVS.table1.t_d,
             alvs_tasks::Params::ALVS.table1.t_s,
@@ -193,6 +193,7 @@ mod app {
             u8::from(alvs_tasks::Params::ALVS.mechanisms.border_arms),
             u8::from(alvs_tasks::Params::ALVS.mechanisms.border_crossing),
             u8::from(alvs_tasks::Params::ALVS.short.short_uncut),
+            u8::from(alvs_tasks::Params::ALVS.short.short_young),
             off0(alvs_tasks::Params::ALVS.efference.band_row),
             off0(alvs_tasks::Params::ALVS.efference.floor_row),
             u8::from(FsmParams::ALVS.escape.escape_saccade),

@@ -78,7 +78,9 @@ fn boots_to_the_banner_brings_the_camera_up_and_streams_frames() {
     assert!(
         log.contains(
             "derotate 1, gate 3 of 4 arms (growing 50 %, or on 3 frames in a row), T_a 30 in a \
-             quiet scene, blind border arms 1 (a side cut once the field crosses it 1)"
+             quiet scene, blind border arms 1 (a side cut once the field crosses it 1) and cut \
+             fields whole for T_s 1 and the short mode on an alert in a field's first d frames 1 \
+             while standing"
         ),
         "{log}"
     );

@@ -104,7 +104,8 @@ fn an_obstacle_half_out_of_view_is_escaped_in_the_replica() {
 
 /// An obstacle first seen close at the edge of the view: on seed 3 (the lab) the obstacle at
 /// −35° is first seen close, its field cut by the view's border. The default counts a cut
-/// field whole for `T_s` (`short_uncut`) and backs off along the γ path. Table I's 7000 on the
+/// field whole for `T_s` (`short_uncut`; and `short_young` sees it alert in its field's first
+/// frames) and backs off along the γ path. Table I's 7000 on the
 /// shown part alone starts a long takeoff, which with the paper's turn (4/s, 360°/s) turns in
 /// place while the obstacle comes on and collides; the default's brisk takeoff gets away from
 /// it too (docs/ablation.md). (Before `q_grow_run` and `border_crossing` the −26.25° obstacle
@@ -115,6 +116,8 @@ fn an_obstacle_first_seen_close_starts_the_gamma_path() {
     let run = |short_uncut: &str, fsm: FsmParams| {
         let mut params = alvs_tasks::Params::default();
         params.set("short_uncut", short_uncut).unwrap();
+        // the table-one runs test the cut field alone; `short_young` is the next test's
+        params.set("short_young", short_uncut).unwrap();
         let config = EvasionConfig {
             controllers: alvs_only(),
             seed: 3,
@@ -278,7 +281,7 @@ fn an_alert_in_a_young_field_starts_the_gamma_path() {
 /// tuning seed; held out in docs/notes/2026-11-28-the-gamma-path.md).
 #[test]
 fn a_field_cut_by_the_border_counts_whole_for_the_short_mode() {
-    let run = |value| from_100_mm(&[("short_uncut", value)]);
+    let run = |value| from_100_mm(&[("short_young", "0"), ("short_uncut", value)]);
     let (before, after) = (run("0"), run("1"));
     let short = Some(State::ShortTakeoff.name());
     let edges = |r: &evasion::ControllerEvasion| -> Vec<bool> {

@@ -57,7 +57,8 @@ pub(crate) fn strongest(o: &Perception) -> Option<&alvs_tasks::AfReport> {
 /// silence while still, alerts on at least 2/3 of the expansion frames starting within 3
 /// frames of the onset, and on every alert frame `X̄` and the strongest field within 6 px of
 /// the object's centre, the escape turning away from the object's side, `S` and short mode
-/// consistent with `ΣLPLC2`.
+/// consistent with `ΣLPLC2` (or, the network standing, with a field alerting in its first `d`
+/// frames, `Params::short_young`).
 pub(crate) fn check_approach(name: &str, outs: &[Perception], obj: &Looming, n: usize) {
     report(name, outs);
     assert_eq!(alerts(&outs[..LEAD]), 0, "{name}: alert before the onset");
@@ -99,7 +100,12 @@ pub(crate) fn check_approach(name: &str, outs: &[Perception], obj: &Looming, n: 
             assert!((x - CENTRE).abs() <= 10.0 && long.abs() >= 172.9, "{at}");
         }
         assert!(vm.strength > 0.5 && vm.strength <= 1.0, "{at}");
-        assert_eq!(vm.short_mode, vm.lplc2_sum > p.table1.t_s, "{at}");
+        let young = o
+            .afs
+            .iter()
+            .any(|a| a.lplc2 > 0 && a.age <= u32::from(p.table1.d));
+        let short = vm.lplc2_sum > p.table1.t_s || (p.short.short_young && young);
+        assert_eq!(vm.short_mode, short, "{at}");
     }
 }
 

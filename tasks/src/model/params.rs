@@ -372,6 +372,7 @@ impl Params {
         },
         short: ShortGates {
             short_uncut: true,
+            short_young: true,
             ..Params::PAPER.short
         },
         efference: Efference {

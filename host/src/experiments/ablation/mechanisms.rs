@@ -107,7 +107,7 @@ impl Mechanism {
 
 /// Every mechanism the project adds to the paper's model, in the default or an option,
 /// perception first (in the order of `Params`), then motion (`FsmParams`).
-pub const MECHANISMS: [Mechanism; 23] = [
+pub const MECHANISMS: [Mechanism; 24] = [
     Mechanism {
         name: "warmup",
         what: "no field stimulated while the delay line refills",
@@ -222,6 +222,13 @@ pub const MECHANISMS: [Mechanism; 23] = [
         fields: "short_uncut",
         escape: true,
         copy: |m, s| m.params.short.short_uncut = s.params.short.short_uncut,
+    },
+    Mechanism {
+        name: "young",
+        what: "standing, an alert in a field's first d frames starts the short mode",
+        fields: "short_young",
+        escape: true,
+        copy: |m, s| m.params.short.short_young = s.params.short.short_young,
     },
     Mechanism {
         name: "t-s",
