@@ -175,6 +175,33 @@ fn the_field_capacity_is_reached_but_never_exceeded() {
     }
 }
 
+/// Runs `frames` through a network with `on` and one with `off` at `speed`: their outputs
+/// differ only in `short_mode`, which `on` turns on, never off, only while standing and only
+/// on an output `why` accepts; each such frame counts in `widened`.
+fn only_widens(
+    on: Params,
+    off: Params,
+    frames: &[alvs_tasks::Frame],
+    speed: f32,
+    widened: &Cell<u32>,
+    why: impl Fn(&Perception) -> bool,
+) -> Result<(), TestCaseError> {
+    let (mut on, mut off) = (Network::new(on).unwrap(), Network::new(off).unwrap());
+    for f in frames {
+        on.driving(speed);
+        off.driving(speed);
+        let (mut a, b) = (on.step(f), off.step(f));
+        prop_assert!(a.short_mode() || !b.short_mode(), "{:?} {:?}", a.vm, b.vm);
+        if a.short_mode() != b.short_mode() {
+            prop_assert!(speed == 0.0 && why(&a), "{a:?}");
+            widened.set(widened.get() + 1);
+        }
+        a.vm.short_mode = b.vm.short_mode;
+        prop_assert_eq!(a, b);
+    }
+    Ok(())
+}
+
 /// `Params::short_uncut` widens the short mode and changes nothing else: on any frames and
 /// parameters, driving or not, the outputs with and without it differ only in `short_mode`,
 /// which it turns on, never off, and only while the robot does not drive forward. The run must
@@ -207,21 +234,14 @@ fn counting_cut_fields_whole_only_widens_the_short_mode() {
                     (uncut_sum(&o, p.table1.r_af) > o.vm.lplc2_sum).then_some(o.vm.lplc2_sum)
                 })
                 .unwrap_or(p.table1.t_s);
-            let mut on = Network::new(with(true, t_s)).unwrap();
-            let mut off = Network::new(with(false, t_s)).unwrap();
-            for f in &frames {
-                on.driving(speed);
-                off.driving(speed);
-                let (mut a, b) = (on.step(f), off.step(f));
-                prop_assert!(a.short_mode() || !b.short_mode(), "{:?} {:?}", a.vm, b.vm);
-                if a.short_mode() != b.short_mode() {
-                    prop_assert!(!driving);
-                    widened.set(widened.get() + 1);
-                }
-                a.vm.short_mode = b.vm.short_mode;
-                prop_assert_eq!(a, b);
-            }
-            Ok(())
+            only_widens(
+                with(true, t_s),
+                with(false, t_s),
+                &frames,
+                speed,
+                &widened,
+                |_| true,
+            )
         },
     );
     if let Err(e) = result {
@@ -259,27 +279,11 @@ fn a_young_fields_alert_only_widens_a_standing_robots_short_mode() {
                 ..p
             };
             let speed = if driving { 150.0 } else { 0.0 };
-            let mut on = Network::new(with(true)).unwrap();
-            let mut off = Network::new(with(false)).unwrap();
-            for f in &render(&specs) {
-                on.driving(speed);
-                off.driving(speed);
-                let (mut a, b) = (on.step(f), off.step(f));
-                prop_assert!(a.short_mode() || !b.short_mode(), "{:?} {:?}", a.vm, b.vm);
-                if a.short_mode() != b.short_mode() {
-                    prop_assert!(!driving);
-                    let young = u32::from(p.table1.d);
-                    prop_assert!(
-                        a.afs.iter().any(|f| f.lplc2 > 0 && f.age <= young),
-                        "{:?}",
-                        a.afs
-                    );
-                    widened.set(widened.get() + 1);
-                }
-                a.vm.short_mode = b.vm.short_mode;
-                prop_assert_eq!(a, b);
-            }
-            Ok(())
+            let young = u32::from(p.table1.d);
+            let frames = render(&specs);
+            only_widens(with(true), with(false), &frames, speed, &widened, |a| {
+                a.afs.iter().any(|f| f.lplc2 > 0 && f.age <= young)
+            })
         },
     );
     if let Err(e) = result {
