@@ -245,7 +245,9 @@ param_groups! {
             /// contrast: at the view's edge their distances and responses at the first alert
             /// overlap, their fields' ages do not (docs/notes/2026-11-28-first-seen-close-on-textured-walls.md).
             /// Driving, new fields come from the robot's own flow all the time, so age says nothing.
-            /// `false`: the paper.
+            /// It needs a distant mover's field born early, as `t_a_quiet`'s lower `T_a` in a still
+            /// scene has it: without that, two threats collide 22 times as often
+            /// (`docs/ablation.md`). `false`: the paper; the default: `true`.
             short_young: bool = Range::Int(0, 1),
         },
         /// The swarm's look, run beside the network ([`crate::model::closed_loop::movers`]).
