@@ -168,6 +168,16 @@ fn from_100_mm(set: &[(&str, &str)]) -> evasion::ControllerEvasion {
 
 /// [`from_100_mm`] in front of a photograph from `data/photos/` instead of the ribs.
 fn from_100_mm_before(photo: Option<&str>, set: &[(&str, &str)]) -> evasion::ControllerEvasion {
+    evasion_before(photo, Some(100.0), set)
+}
+
+/// The default's evasion on seed 1 in front of `photo` (or the ribs), the obstacle starting
+/// `distance_mm` away (or at the stage's default distance), with parameters set.
+fn evasion_before(
+    photo: Option<&str>,
+    distance_mm: Option<f64>,
+    set: &[(&str, &str)],
+) -> evasion::ControllerEvasion {
     let mut params = alvs_tasks::Params::default();
     for (name, value) in set {
         params.set(name, value).unwrap();
@@ -177,7 +187,7 @@ fn from_100_mm_before(photo: Option<&str>, set: &[(&str, &str)]) -> evasion::Con
     let config = EvasionConfig {
         controllers: alvs_only(),
         seed: 1,
-        distance_mm: Some(100.0),
+        distance_mm,
         background,
         params,
         ..EvasionConfig::default()
@@ -255,22 +265,8 @@ fn an_alert_in_a_young_field_starts_the_gamma_path() {
             assert_eq!(b, a);
         }
     }
-    let from_afar = |value: &str| {
-        let mut params = alvs_tasks::Params::default();
-        params.set("short_young", value).unwrap();
-        let config = EvasionConfig {
-            controllers: alvs_only(),
-            seed: 1,
-            background: Some(format!(
-                "{}/../data/photos/outdoor_1.jpg",
-                env!("CARGO_MANIFEST_DIR")
-            )),
-            params,
-            ..EvasionConfig::default()
-        };
-        let r = evasion::run(&config, 2, &|_| {}).expect("a valid configuration");
-        r.controllers[0].per_angle.clone()
-    };
+    let from_afar =
+        |value| evasion_before(Some("outdoor_1.jpg"), None, &[("short_young", value)]).per_angle;
     assert_eq!(from_afar("0"), from_afar("1"));
 }
 

@@ -53,6 +53,13 @@ pub struct AfReport {
     pub lplc2: u32,
 }
 
+impl AfReport {
+    /// Whether this field alerts within its first `d` frames (`Params::short_young`).
+    pub fn alerts_young(&self, d: u8) -> bool {
+        self.lplc2 > 0 && self.age <= u32::from(d)
+    }
+}
+
 /// Everything the perception task hands to motor control and telemetry for one frame.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Perception {
@@ -461,8 +468,7 @@ impl Network {
         }
         if p.short.short_young && !self.driving {
             // `Params::short_young`: not driving, an alert in a field's first `d` frames
-            let young = u32::from(p.table1.d);
-            vm.short_mode |= afs.iter().any(|a| a.lplc2 > 0 && a.age <= young);
+            vm.short_mode |= afs.iter().any(|a| a.alerts_young(p.table1.d));
         }
         if let Some(frames) = p.short.adapt_frames {
             // motion adaptation: the short mode needs a response above twice its recent mean

@@ -2,7 +2,6 @@
 
 use super::*;
 use alvs_tasks::model::lplc2::uncut_response;
-use alvs_tasks::model::network::AfReport;
 
 /// `a` and `b` are the same angle up to `tol` degrees.
 fn same_angle(a: f32, b: f32, tol: f32) -> bool {
@@ -123,10 +122,9 @@ pub(crate) fn check(
     // the short mode's test: ΣLPLC2 above `T_s`, or, standing with `Params::short_uncut`, the
     // sum with the fields a side border cuts counted whole, or, standing with
     // `Params::short_young`, an alert in a field's first `d` frames
-    let young = |f: &AfReport| f.lplc2 > 0 && f.age <= u32::from(p.table1.d);
     let over = vm.lplc2_sum > p.table1.t_s
         || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s)
-        || (p.short.short_young && !driving && out.afs.iter().any(young));
+        || (p.short.short_young && !driving && out.afs.iter().any(|f| f.alerts_young(p.table1.d)));
     if off0(p.short.adapt_frames) == 0 && !off_path && !far_gate {
         prop_assert_eq!(vm.short_mode, over, "{}", ctx());
     } else {

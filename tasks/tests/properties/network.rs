@@ -279,10 +279,9 @@ fn a_young_fields_alert_only_widens_a_standing_robots_short_mode() {
                 ..p
             };
             let speed = if driving { 150.0 } else { 0.0 };
-            let young = u32::from(p.table1.d);
             let frames = render(&specs);
             only_widens(with(true), with(false), &frames, speed, &widened, |a| {
-                a.afs.iter().any(|f| f.lplc2 > 0 && f.age <= young)
+                a.afs.iter().any(|f| f.alerts_young(p.table1.d))
             })
         },
     );
