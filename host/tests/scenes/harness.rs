@@ -100,7 +100,7 @@ pub(crate) fn check_approach(name: &str, outs: &[Perception], obj: &Looming, n: 
             assert!((x - CENTRE).abs() <= 10.0 && long.abs() >= 172.9, "{at}");
         }
         assert!(vm.strength > 0.5 && vm.strength <= 1.0, "{at}");
-        let young = o.afs.iter().any(|a| a.alerts_young(p.table1.d));
+        let young = o.afs.iter().any(|a| a.alerts_young(o.frame, &p));
         let short = vm.lplc2_sum > p.table1.t_s || (p.short.short_young && young);
         assert_eq!(vm.short_mode, short, "{at}");
     }

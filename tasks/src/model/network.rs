@@ -54,9 +54,14 @@ pub struct AfReport {
 }
 
 impl AfReport {
-    /// Whether this field alerts within its first `d` frames (`Params::short_young`).
-    pub fn alerts_young(&self, d: u8) -> bool {
-        self.lplc2 > 0 && self.age <= u32::from(d)
+    /// Whether this field alerts within its first `d` frames that could alert
+    /// (`Params::short_young`), on frame `frame` of the network (`Perception::frame`): the
+    /// warm-up's frames (`Params::warmup`) do not count, since no field can alert in them.
+    pub fn alerts_young(&self, frame: u32, p: &Params) -> bool {
+        let after_warmup = frame
+            .saturating_add(1)
+            .saturating_sub(u32::from(off0(p.mechanisms.warmup)));
+        self.lplc2 > 0 && self.age.min(after_warmup) <= u32::from(p.table1.d)
     }
 }
 
@@ -468,7 +473,7 @@ impl Network {
         }
         if p.short.short_young && !self.driving {
             // `Params::short_young`: not driving, an alert in a field's first `d` frames
-            vm.short_mode |= afs.iter().any(|a| a.alerts_young(p.table1.d));
+            vm.short_mode |= afs.iter().any(|a| a.alerts_young(index, &p));
         }
         if let Some(frames) = p.short.adapt_frames {
             // motion adaptation: the short mode needs a response above twice its recent mean
@@ -571,6 +576,7 @@ impl Default for Fnv {
 mod tests {
     use super::*;
     use crate::frame::PIXELS;
+    use crate::model::params::Mechanisms;
     use crate::model::retina::delay;
 
     #[test]
@@ -615,6 +621,39 @@ mod tests {
             }
             assert_eq!(d[0], 200, "gain {gain}");
         }
+    }
+
+    /// `short_young` counts a field's frames from the warm-up's end: a field born in the
+    /// warm-up, when nothing can alert, is as young as the frames it could have alerted in.
+    #[test]
+    fn a_fields_youth_counts_from_the_warm_ups_end() {
+        let p = Params::default();
+        let (d, warmup) = (u32::from(p.table1.d), u32::from(off0(p.mechanisms.warmup)));
+        assert_eq!((d, warmup), (4, 4), "Table I's d; the default's warm-up");
+        let alerting = |age| AfReport {
+            age,
+            lplc2: 1,
+            ..AfReport::default()
+        };
+        // born on frame 1, in the warm-up: young until its 4th frame after it
+        assert!(alerting(7).alerts_young(7, &p), "frames 4..=7 could alert");
+        assert!(!alerting(8).alerts_young(8, &p), "frames 4..=8 could alert");
+        // born after the warm-up: its own age
+        assert!(alerting(4).alerts_young(20, &p));
+        assert!(!alerting(5).alerts_young(20, &p));
+        assert!(
+            !AfReport::default().alerts_young(5, &p),
+            "silent fields are never young"
+        );
+        // without a warm-up every frame counts
+        let no_warmup = Params {
+            mechanisms: Mechanisms {
+                warmup: None,
+                ..p.mechanisms
+            },
+            ..p
+        };
+        assert!(!alerting(7).alerts_young(7, &no_warmup));
     }
 
     fn square(t: usize) -> Frame {

@@ -124,7 +124,9 @@ pub(crate) fn check(
     // `Params::short_young`, an alert in a field's first `d` frames
     let over = vm.lplc2_sum > p.table1.t_s
         || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s)
-        || (p.short.short_young && !driving && out.afs.iter().any(|f| f.alerts_young(p.table1.d)));
+        || (p.short.short_young
+            && !driving
+            && out.afs.iter().any(|f| f.alerts_young(out.frame, p)));
     if off0(p.short.adapt_frames) == 0 && !off_path && !far_gate {
         prop_assert_eq!(vm.short_mode, over, "{}", ctx());
     } else {

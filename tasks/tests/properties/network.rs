@@ -281,7 +281,7 @@ fn a_young_fields_alert_only_widens_a_standing_robots_short_mode() {
             let speed = if driving { 150.0 } else { 0.0 };
             let frames = render(&specs);
             only_widens(with(true), with(false), &frames, speed, &widened, |a| {
-                a.afs.iter().any(|f| f.alerts_young(p.table1.d))
+                a.afs.iter().any(|f| f.alerts_young(a.frame, &p))
             })
         },
     );
