@@ -473,6 +473,7 @@ impl Network {
         }
         if p.short.short_young && !self.driving {
             // `Params::short_young`: not driving, an alert in a field's first `d` frames
+            // (a field born in the warm-up counts from its end)
             vm.short_mode |= afs.iter().any(|a| a.alerts_young(index, &p));
         }
         if let Some(frames) = p.short.adapt_frames {

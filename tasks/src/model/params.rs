@@ -240,7 +240,9 @@ param_groups! {
             /// While the robot does not drive forward (as for `short_uncut`), the short mode is also
             /// on when a field alerts within its first `d` frames (Table I's `d`, the frames Eq. (10)
             /// needs before it can judge a field): an object that alerts as soon as it is attended
-            /// was first seen close, too late for the long takeoff's turn. Age separates the
+            /// was first seen close, too late for the long takeoff's turn. A field born in the
+            /// warm-up (`warmup`), when no field can alert, counts from the warm-up's end
+            /// ([`crate::model::network::AfReport::alerts_young`]). Age separates the
             /// obstacle first seen close from one seen approaching from afar, whatever the wall's
             /// contrast: at the view's edge their distances and responses at the first alert
             /// overlap, their fields' ages do not (docs/notes/2026-11-28-first-seen-close-on-textured-walls.md).

@@ -121,7 +121,7 @@ pub(crate) fn check(
     let far_gate = driving && off0(p.short.short_row) > 0;
     // the short mode's test: ΣLPLC2 above `T_s`, or, standing with `Params::short_uncut`, the
     // sum with the fields a side border cuts counted whole, or, standing with
-    // `Params::short_young`, an alert in a field's first `d` frames
+    // `Params::short_young`, an alert in a field's first `d` frames after the warm-up
     let over = vm.lplc2_sum > p.table1.t_s
         || (p.short.short_uncut && !driving && uncut_sum(out, p.table1.r_af) > p.table1.t_s)
         || (p.short.short_young
