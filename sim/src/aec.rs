@@ -83,11 +83,25 @@ pub enum GainModel {
     /// The documented AEC/AGC ([`Aec::OV7670`]): the gain holds while the view's mean stays in
     /// the stable region and steps by 1/16 a frame when it leaves it.
     Aec,
+    /// A random gain of [`CLIPS_GAIN_SIGMA`] drawn every frame, independently: what the
+    /// cameras of the recorded real clips (`data/clips/real_*`, other cameras than the OV7670)
+    /// measure from frame to frame.
+    Clips,
 }
+
+/// The frame-to-frame gain of the recorded real clips' cameras, standard deviation: 0.08–0.34 %
+/// in 8 of the 10 `real_*` clips, median 0.29 % (the least-squares gain over the pixels that
+/// barely change; `docs/notes/2026-11-28-camera-gain.md`, "What the recorded clips say").
+pub const CLIPS_GAIN_SIGMA: f32 = 0.003;
 
 impl GainModel {
     /// Every model, in the order the command line lists them.
-    pub const ALL: [GainModel; 3] = [GainModel::Jitter, GainModel::Steady, GainModel::Aec];
+    pub const ALL: [GainModel; 4] = [
+        GainModel::Jitter,
+        GainModel::Steady,
+        GainModel::Aec,
+        GainModel::Clips,
+    ];
 
     /// The name on the command line.
     pub fn name(self) -> &'static str {
@@ -95,6 +109,7 @@ impl GainModel {
             GainModel::Jitter => "jitter",
             GainModel::Steady => "steady",
             GainModel::Aec => "aec",
+            GainModel::Clips => "clips",
         }
     }
 
@@ -116,6 +131,7 @@ impl GainModel {
             GainModel::Jitter => (crate::SensorNoise::typical().gain_sigma, None),
             GainModel::Steady => (0.0, None),
             GainModel::Aec => (0.0, Some(Aec::OV7670)),
+            GainModel::Clips => (CLIPS_GAIN_SIGMA, None),
         };
         noise.gain_sigma = sigma;
         noise.aec = aec;
@@ -129,7 +145,9 @@ impl core::str::FromStr for GainModel {
         GainModel::ALL
             .into_iter()
             .find(|m| m.name() == s.trim())
-            .ok_or_else(|| format!("{s:?} is not a camera gain model: jitter, steady or aec"))
+            .ok_or_else(|| {
+                format!("{s:?} is not a camera gain model: jitter, steady, aec or clips")
+            })
     }
 }
 

@@ -1,6 +1,7 @@
 //! The camera's gain models (`alvs_sim::GainModel`) on rendered views: the documented AEC holds
 //! its exposure in a steady view and steps it, 1/16 a frame, when a dark robot close ahead
-//! darkens the view; the steady camera never changes it; the jitter draws a new gain each frame.
+//! darkens the view; the steady camera never changes it; the jitter draws a new gain each frame,
+//! and the real clips' camera a smaller one.
 //!
 //! `cargo test --target host-tuple -p alvs-sim --test camera_aec`.
 
@@ -57,4 +58,25 @@ fn the_jitter_moves_every_frame() {
     let jitter = means(GainModel::Jitter);
     let changed = jitter[..10].windows(2).filter(|w| w[0] != w[1]).count();
     assert_eq!(changed, 9, "{jitter:?}");
+}
+
+/// The real clips' camera (`clips`) draws a gain every frame too, about a seventh as large as
+/// the worlds' 2 % draw: the frame means of the steady view move, by less than 1 % a frame.
+#[test]
+fn the_clips_camera_moves_by_a_fraction_of_the_jitter() {
+    let (clips, jitter) = (means(GainModel::Clips), means(GainModel::Jitter));
+    let steps = |m: &[f64]| -> Vec<f64> {
+        m[..10]
+            .windows(2)
+            .map(|w| (w[1] / w[0] - 1.0).abs())
+            .collect()
+    };
+    let (small, large) = (steps(&clips), steps(&jitter));
+    assert!(small.iter().filter(|&&s| s > 0.0).count() >= 5, "{clips:?}");
+    assert!(small.iter().all(|&s| s < 0.01), "{small:?}");
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!(
+        mean(&small) < mean(&large) / 3.0,
+        "{small:?} against {large:?}"
+    );
 }

@@ -115,7 +115,8 @@ pub struct CameraArgs {
     /// draw every frame (the worlds' camera, a choice no recording measures); `steady`, no
     /// change (automatic exposure and gain off, steady light); `aec`, the OV7670's documented
     /// automatic exposure: it holds while the view's mean grey stays within ±8.3 % of the first
-    /// view's and steps by 1/16 a frame when it leaves (docs/world.md, "The camera's gain").
+    /// view's and steps by 1/16 a frame when it leaves; `clips`, an independent 0.3 % draw, what
+    /// the recorded real clips' cameras measure (docs/world.md, "The camera's gain").
     #[arg(long = "camera-gain", default_value = "jitter", value_name = "MODEL")]
     pub gain: alvs_sim::GainModel,
 }
