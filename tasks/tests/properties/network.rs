@@ -254,8 +254,8 @@ fn counting_cut_fields_whole_only_widens_the_short_mode() {
 /// `Params::short_young` widens the short mode and changes nothing else: on any frames and
 /// parameters, driving or not, the outputs with and without it differ only in `short_mode`,
 /// which it turns on, never off, only while the robot does not drive forward, and only on a
-/// frame where a field in its first `d` frames alerts. The run must also see it widen, or it
-/// proves little.
+/// frame where a field in its first `d` frames after the warm-up alerts. The run must also see
+/// it widen, or it proves little.
 #[test]
 fn a_young_fields_alert_only_widens_a_standing_robots_short_mode() {
     let widened = Cell::new(0);
