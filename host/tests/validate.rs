@@ -49,7 +49,7 @@ fn a_robot_at_a_wall_gets_away_with_the_calibrated_slip_and_not_without() {
             per_min(calibrated.alerts)
         );
         assert!(
-            frozen.pressed_share > 0.7 && frozen.pressed_share > calibrated.pressed_share + 0.2,
+            frozen.pressed_share > 0.5 && frozen.pressed_share > calibrated.pressed_share + 0.3,
             "seed {seed}: without slip pressed {:.2} (calibrated {:.2})",
             frozen.pressed_share,
             calibrated.pressed_share
@@ -74,19 +74,19 @@ fn straight_approaches_alert_at_the_real_turns_distances() {
     assert!((38.0..=77.0).contains(&gap), "median gap {gap} mm");
 }
 
-/// Square on at the slower runs' speeds the LGMD2 does not see the replica's bright wall coming
-/// at all (docs/world.md, "What is left"): the real robots turn as far from it at every speed.
+/// Square on at the slowest run's speed the LGMD2 does not see the replica's bright wall coming
+/// at all, and at the next slowest it misses some of it (docs/world.md, "What is left": 0 and
+/// 3 of 5 approaches alerted, against 5 of 5 at the fastest): the real robots turn as far from
+/// it at every speed.
 #[test]
 fn slow_square_on_approaches_go_unseen() {
     use alvs_host::experiments::validate::approach::{approaches, ANGLES_DEG};
     assert_eq!(ANGLES_DEG[0], 90.0);
-    for row in approaches(&replica::world(), CameraMount::default(), &[84.0, 51.0]) {
-        assert_eq!(
-            row.alerted_by_angle[0], 0,
-            "{} mm/s: {:?}",
-            row.speed_mm_s, row.alerted_by_angle
-        );
-    }
+    let rows = approaches(&replica::world(), CameraMount::default(), &[84.0, 51.0]);
+    let square_on: Vec<usize> = rows.iter().map(|r| r.alerted_by_angle[0]).collect();
+    let per_angle = rows[0].approaches / ANGLES_DEG.len();
+    assert!(square_on[0] < per_angle, "{square_on:?}");
+    assert_eq!(square_on[1], 0, "{square_on:?}");
 }
 
 /// The diagnostic `--proximity-mm`: a forward proximity sensor 30 mm deep keeps a slow LGMD2

@@ -72,10 +72,9 @@ impl Aec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GainModel {
-    /// A random gain of 2 % standard deviation drawn every frame, independently
-    /// ([`SensorNoise::typical`](crate::SensorNoise::typical)): a plausible figure no recording
+    /// A random gain of [`JITTER_GAIN_SIGMA`] drawn every frame, independently: the worlds'
+    /// camera until the real clips' cameras were measured, a plausible figure no recording
     /// measures, and not what the sensor's documented AEC does in a steady view.
-    #[default]
     Jitter,
     /// No frame-to-frame change: AEC and AGC off (`COM8` bits 0 and 2 cleared once the
     /// exposure has settled) under steady light.
@@ -85,9 +84,15 @@ pub enum GainModel {
     Aec,
     /// A random gain of [`CLIPS_GAIN_SIGMA`] drawn every frame, independently: what the
     /// cameras of the recorded real clips (`data/clips/real_*`, other cameras than the OV7670)
-    /// measure from frame to frame.
+    /// measure from frame to frame. The worlds' camera
+    /// ([`SensorNoise::typical`](crate::SensorNoise::typical)).
+    #[default]
     Clips,
 }
+
+/// [`GainModel::Jitter`]'s standard deviation, 2 %: a plausible figure for automatic gain and
+/// lamp flicker that no recording measures.
+pub const JITTER_GAIN_SIGMA: f32 = 0.02;
 
 /// The frame-to-frame gain of the recorded real clips' cameras, standard deviation: 0.08–0.34 %
 /// in 8 of the 10 `real_*` clips, median 0.29 % (the least-squares gain over the pixels that
@@ -97,10 +102,10 @@ pub const CLIPS_GAIN_SIGMA: f32 = 0.003;
 impl GainModel {
     /// Every model, in the order the command line lists them.
     pub const ALL: [GainModel; 4] = [
+        GainModel::Clips,
         GainModel::Jitter,
         GainModel::Steady,
         GainModel::Aec,
-        GainModel::Clips,
     ];
 
     /// The name on the command line.
@@ -128,10 +133,10 @@ impl GainModel {
     /// `noise` with this model's gain settings (its pixel noise, exposure and shake kept).
     pub fn apply(self, noise: &mut crate::SensorNoise) {
         let (sigma, aec) = match self {
-            GainModel::Jitter => (crate::SensorNoise::typical().gain_sigma, None),
+            GainModel::Jitter => (JITTER_GAIN_SIGMA, None),
             GainModel::Steady => (0.0, None),
             GainModel::Aec => (0.0, Some(Aec::OV7670)),
-            GainModel::Clips => (CLIPS_GAIN_SIGMA, None),
+            GainModel::Clips => (crate::SensorNoise::typical().gain_sigma, None),
         };
         noise.gain_sigma = sigma;
         noise.aec = aec;
@@ -146,7 +151,7 @@ impl core::str::FromStr for GainModel {
             .into_iter()
             .find(|m| m.name() == s.trim())
             .ok_or_else(|| {
-                format!("{s:?} is not a camera gain model: jitter, steady, aec or clips")
+                format!("{s:?} is not a camera gain model: clips, jitter, steady or aec")
             })
     }
 }
@@ -181,6 +186,16 @@ mod tests {
         // no centre yet, or a broken mean: no change
         assert_eq!(a.next(50.0, 0.0), 1.0);
         assert_eq!(a.next(f32::NAN, 100.0), 1.0);
+    }
+
+    /// The worlds' camera is the measured one: the typical camera draws the clips' gain, and
+    /// `jitter` keeps its own, larger figure.
+    #[test]
+    fn the_worlds_camera_draws_the_clips_gain() {
+        assert_eq!(GainModel::default(), GainModel::Clips);
+        assert_eq!(crate::SensorNoise::typical().gain_sigma, CLIPS_GAIN_SIGMA);
+        assert_eq!(GainModel::Clips.camera(0.0), crate::SensorNoise::typical());
+        assert!(GainModel::Jitter.camera(0.0).gain_sigma > 5.0 * CLIPS_GAIN_SIGMA);
     }
 
     #[test]

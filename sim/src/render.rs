@@ -209,7 +209,7 @@ pub struct SensorNoise {
     /// frame).
     pub pixel_sigma: f32,
     /// Standard deviation of the global gain, relative (one independent draw per frame:
-    /// [`GainModel::Jitter`](crate::GainModel::Jitter)).
+    /// [`GainModel::Clips`](crate::GainModel::Clips), [`GainModel::Jitter`](crate::GainModel::Jitter)).
     pub gain_sigma: f32,
     /// The sensor's automatic exposure and gain ([`Aec`], the
     /// [`GainModel::Aec`](crate::GainModel::Aec)), on top of `gain_sigma`; `None`: the exposure
@@ -237,12 +237,13 @@ pub struct SensorNoise {
 pub const EXPOSURE_SAMPLES: usize = 4;
 
 impl SensorNoise {
-    /// Plausible OV7670 figures in a lit lab: 2 grey levels of pixel noise, 2 % gain flicker
-    /// ([`GainModel::Jitter`](crate::GainModel::Jitter)).
+    /// The worlds' camera: 2 grey levels of pixel noise, and the global gain's frame-to-frame
+    /// change that real cameras' frames measure, 0.3 % ([`GainModel::Clips`](crate::GainModel::Clips),
+    /// [`CLIPS_GAIN_SIGMA`](crate::aec::CLIPS_GAIN_SIGMA)).
     pub fn typical() -> Self {
         SensorNoise {
             pixel_sigma: 2.0,
-            gain_sigma: 0.02,
+            gain_sigma: crate::aec::CLIPS_GAIN_SIGMA,
             aec: None,
             exposure: 0.0,
             shake_deg: 0.0,

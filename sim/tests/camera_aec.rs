@@ -60,8 +60,9 @@ fn the_jitter_moves_every_frame() {
     assert_eq!(changed, 9, "{jitter:?}");
 }
 
-/// The real clips' camera (`clips`) draws a gain every frame too, about a seventh as large as
-/// the worlds' 2 % draw: the frame means of the steady view move, by less than 1 % a frame.
+/// The real clips' camera (`clips`, the worlds') draws a gain every frame too, about a seventh
+/// as large as the former 2 % draw: the frame means of the steady view move, by less than 1 % a
+/// frame.
 #[test]
 fn the_clips_camera_moves_by_a_fraction_of_the_jitter() {
     let (clips, jitter) = (means(GainModel::Clips), means(GainModel::Jitter));

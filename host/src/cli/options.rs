@@ -111,13 +111,14 @@ pub struct CameraArgs {
         allow_negative_numbers = true
     )]
     pub exposure: f32,
-    /// How the camera's global gain moves from frame to frame: `jitter`, an independent 2 %
-    /// draw every frame (the worlds' camera, a choice no recording measures); `steady`, no
-    /// change (automatic exposure and gain off, steady light); `aec`, the OV7670's documented
-    /// automatic exposure: it holds while the view's mean grey stays within ±8.3 % of the first
-    /// view's and steps by 1/16 a frame when it leaves; `clips`, an independent 0.3 % draw, what
-    /// the recorded real clips' cameras measure (docs/world.md, "The camera's gain").
-    #[arg(long = "camera-gain", default_value = "jitter", value_name = "MODEL")]
+    /// How the camera's global gain moves from frame to frame: `clips`, an independent 0.3 %
+    /// draw every frame, what the recorded real clips' cameras measure (the worlds' camera);
+    /// `jitter`, an independent 2 % draw, the worlds' camera before that measurement (a figure
+    /// no recording measures); `steady`, no change (automatic exposure and gain off, steady
+    /// light); `aec`, the OV7670's documented automatic exposure: it holds while the view's mean
+    /// grey stays within ±8.3 % of the first view's and steps by 1/16 a frame when it leaves
+    /// (docs/world.md, "The camera's gain").
+    #[arg(long = "camera-gain", default_value = "clips", value_name = "MODEL")]
     pub gain: alvs_sim::GainModel,
 }
 

@@ -58,16 +58,21 @@ pub const MOTOR_ASYMMETRY: f64 = 0.05;
 pub const FRAME_LOSS: f64 = 0.05;
 
 /// The steady camera: no frame-to-frame gain change. The simulator's camera draws a global gain
-/// of 2 % standard deviation every frame (`SensorNoise::typical`, [`GainModel::Jitter`]), a
-/// plausible figure that no recording here measures (docs/world.md). An OV7670 whose automatic
-/// exposure and gain are switched off (`COM8`'s AEC and AGC bits) under steady light has none;
-/// this row shows how much each controller's figures rest on that choice.
+/// of 0.3 % standard deviation every frame (`SensorNoise::typical`, [`GainModel::Clips`]), what
+/// the recorded real clips' cameras measure (docs/world.md). An OV7670 whose automatic exposure
+/// and gain are switched off (`COM8`'s AEC and AGC bits) under steady light has none; this row
+/// shows how much each controller's figures rest on that draw.
 pub const STEADY_GAIN: GainModel = GainModel::Steady;
 
 /// The documented automatic exposure ([`alvs_sim::Aec::OV7670`]) in place of the draw: the
 /// exposure holds while the view's mean grey stays in the sensor's stable region and steps by
 /// 1/16 a frame when it leaves it, as the firmware's `COM8` 0x8F (AEC and AGC on) runs it.
 pub const AEC_GAIN: GainModel = GainModel::Aec;
+
+/// The worlds' camera before the real clips' cameras were measured: a global gain of 2 %
+/// standard deviation every frame ([`alvs_sim::aec::JITTER_GAIN_SIGMA`]), a plausible figure for
+/// automatic gain and lamp flicker that no recording measures, seven times the clips' figure.
+pub const JITTER_GAIN: GainModel = GainModel::Jitter;
 
 /// One perturbation of the world, the camera, the motors or the firmware's loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -99,11 +104,13 @@ pub enum Perturbation {
     CameraSteady,
     /// The sensor's documented automatic exposure in place of the per-frame draw ([`AEC_GAIN`]).
     CameraAec,
+    /// A per-frame gain draw of 2 % in place of 0.3 % ([`JITTER_GAIN`]).
+    CameraJitter,
 }
 
 impl Perturbation {
     /// Every perturbation, the reference first.
-    pub const ALL: [Perturbation; 13] = [
+    pub const ALL: [Perturbation; 14] = [
         Perturbation::None,
         Perturbation::FloorTexture,
         Perturbation::FloorShade,
@@ -117,6 +124,7 @@ impl Perturbation {
         Perturbation::DroppedFrames,
         Perturbation::CameraSteady,
         Perturbation::CameraAec,
+        Perturbation::CameraJitter,
     ];
 
     /// Its name on the command line, in tables and in JSON.
@@ -135,6 +143,7 @@ impl Perturbation {
             Perturbation::DroppedFrames => "dropped-frames",
             Perturbation::CameraSteady => "camera-steady",
             Perturbation::CameraAec => "camera-aec",
+            Perturbation::CameraJitter => "camera-jitter",
         }
     }
 
@@ -152,8 +161,9 @@ impl Perturbation {
             Perturbation::MotorAsymmetry => "right wheel 5 % slower",
             Perturbation::Odometry => "odometry heading, not the gyro",
             Perturbation::DroppedFrames => "5 % of frames lost",
-            Perturbation::CameraSteady => "camera gain fixed (no 2 % draw)",
-            Perturbation::CameraAec => "OV7670 auto exposure (no 2 % draw)",
+            Perturbation::CameraSteady => "camera gain fixed (no 0.3 % draw)",
+            Perturbation::CameraAec => "OV7670 auto exposure (no 0.3 % draw)",
+            Perturbation::CameraJitter => "camera gain drawn at 2 %, not 0.3 %",
         }
     }
 
@@ -210,6 +220,7 @@ impl Perturbation {
             Perturbation::DroppedFrames => options.frame_loss = Some(FRAME_LOSS),
             Perturbation::CameraSteady => STEADY_GAIN.apply(noise),
             Perturbation::CameraAec => AEC_GAIN.apply(noise),
+            Perturbation::CameraJitter => JITTER_GAIN.apply(noise),
         }
     }
 }
