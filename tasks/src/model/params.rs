@@ -259,8 +259,9 @@ param_groups! {
             /// robots appear is compared over 0.4 s, and the column where most pixels changed by more
             /// than this many grey levels is reported: something that moves, another robot, since a
             /// standing robot has no flow of its own. `None` (0) turns it off (the paper); 25 is far above the
-            /// camera's noise (2 grey levels per pixel, 2 % gain flicker, at most 5 at full white):
-            /// 15 took noise for movers (`docs/experiments.md`, "Swarm"). Only the swarm behaviour acts
+            /// camera's noise (2 grey levels per pixel and a 0.3 % gain draw; the worlds' former
+            /// 2 % draw, at most 5 at full white): 15 took noise for movers with the 2 % draw
+            /// (`docs/experiments.md`, "Swarm"). Only the swarm behaviour acts
             /// on it (`FsmParams::look_every`); the escape and the firmware never look.
             look_change: Option<NonZeroU8> = Range::Int(0, 255),
         },
