@@ -363,6 +363,7 @@ fn tables_give_a_row_per_seed_under_the_command_that_makes_them() {
         arena_minutes: 0.05,
         swarm_minutes: 0.05,
         firmware: false,
+        gain: GainModel::Clips,
     };
     let text = tables(&config, 2, &|_| {}).unwrap();
     assert!(text.contains(
@@ -411,6 +412,26 @@ fn tables_give_a_row_per_seed_under_the_command_that_makes_them() {
         "{text}"
     );
     assert!(text.contains(&cell), "the ALVS column is unchanged: {text}");
+    // --camera-gain: every run with that camera, named in the command; on seed 12 the former
+    // 2 % draw makes the translating robot alert (docs/world.md, "The camera's gain")
+    let stimuli = |gain| {
+        let c = TablesConfig {
+            world: BuiltinWorld::Fu2019,
+            seeds: vec![12],
+            experiments: vec![Experiment::Stimuli],
+            gain,
+            ..config.clone()
+        };
+        tables(&c, 2, &|_| {}).unwrap()
+    };
+    let (clips, jitter) = (stimuli(GainModel::Clips), stimuli(GainModel::Jitter));
+    assert!(clips.contains("--experiment stimuli`"), "{clips}");
+    assert!(
+        jitter.contains("--experiment stimuli --camera-gain jitter`"),
+        "{jitter}"
+    );
+    assert!(clips.contains("| translate | 1 | 0/1 |"), "{clips}");
+    assert!(jitter.contains("| translate | 1 | 1/1 |"), "{jitter}");
     let bad = TablesConfig {
         seeds: Vec::new(),
         ..config

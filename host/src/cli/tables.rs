@@ -38,6 +38,10 @@ pub struct TablesArgs {
     /// the paper's model (one more arena run per seed).
     #[arg(long)]
     firmware: bool,
+    /// How the camera's global gain moves from frame to frame in every run, as each
+    /// experiment's `--camera-gain`: `clips` (the worlds' camera), `jitter`, `steady` or `aec`.
+    #[arg(long = "camera-gain", default_value = "clips", value_name = "MODEL")]
+    gain: alvs_sim::GainModel,
     /// Threads of each run (default: the available parallelism); results do not depend on it.
     #[arg(long, value_name = "J")]
     jobs: Option<usize>,
@@ -82,6 +86,7 @@ pub fn run(a: TablesArgs) -> Result<()> {
         arena_minutes: a.arena_minutes,
         swarm_minutes: a.swarm_minutes,
         firmware: a.firmware,
+        gain: a.gain,
     };
     config.validate()?;
     let jobs = jobs(a.jobs)?;

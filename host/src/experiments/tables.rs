@@ -5,7 +5,8 @@
 //! in that world and that seed (`cargo alvs <experiment> --world W --seed S`, and for the
 //! arena's paper row `--model paper --controller alvs`); nothing is computed that the
 //! experiment's report does not hold. `--firmware` adds the authors' firmware (`--model
-//! firmware`) to the arena's table, beside the paper's model.
+//! firmware`) to the arena's table, beside the paper's model; `--camera-gain` runs every
+//! experiment with another camera (as each experiment's own option does).
 
 use std::fmt::Write;
 
@@ -17,7 +18,7 @@ use super::evasion::{self, EvasionConfig};
 use super::stimuli::{self, StimuliConfig};
 use super::swarm::{self, SwarmConfig};
 use super::two_threats::{self, TwoThreatConfig};
-use alvs_sim::{BuiltinWorld, Kind};
+use alvs_sim::{BuiltinWorld, GainModel, Kind};
 
 /// An experiment `tables` covers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -72,6 +73,8 @@ pub struct TablesConfig {
     /// The arena's table also has a column for the authors' firmware (ALVS with `--model
     /// firmware`).
     pub firmware: bool,
+    /// Every run's camera gain (`--camera-gain`; the worlds' camera by default).
+    pub gain: GainModel,
 }
 
 impl Default for TablesConfig {
@@ -84,6 +87,7 @@ impl Default for TablesConfig {
             arena_minutes: ArenaConfig::default().minutes,
             swarm_minutes: SwarmConfig::default().minutes,
             firmware: false,
+            gain: GainModel::default(),
         }
     }
 }
@@ -112,6 +116,9 @@ impl TablesConfig {
         }
         if has(Experiment::Arena) && self.firmware {
             c.push_str(" --firmware");
+        }
+        if self.gain != d.gain {
+            let _ = write!(c, " --camera-gain {}", self.gain.name());
         }
         c
     }
@@ -198,6 +205,7 @@ fn stimuli_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Resu
         progress(&format!("stimuli, seed {seed}"));
         let config = StimuliConfig {
             world: c.world,
+            gain: c.gain,
             seed,
             ..StimuliConfig::default()
         };
@@ -286,6 +294,7 @@ fn evasion_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Resu
         progress(&format!("evasion, seed {seed}"));
         let config = EvasionConfig {
             world: c.world,
+            gain: c.gain,
             seed,
             ..EvasionConfig::default()
         };
@@ -320,6 +329,7 @@ fn two_threats_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> 
         progress(&format!("two-threats, seed {seed}"));
         let config = TwoThreatConfig {
             world: c.world,
+            gain: c.gain,
             seed,
             ..TwoThreatConfig::default()
         };
@@ -345,6 +355,7 @@ fn arena_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Result
     use alvs_tasks::Params;
     let base = ArenaConfig {
         world: c.world,
+        gain: c.gain,
         minutes: c.arena_minutes,
         ..ArenaConfig::default()
     };
@@ -473,6 +484,7 @@ fn swarm_table(c: &TablesConfig, jobs: usize, progress: &dyn Fn(&str)) -> Result
         progress(&format!("swarm, seed {seed}"));
         let config = SwarmConfig {
             world: c.world,
+            gain: c.gain,
             seed,
             minutes: c.swarm_minutes,
             ..SwarmConfig::default()
