@@ -136,10 +136,17 @@ impl GainModel {
             GainModel::Jitter => (JITTER_GAIN_SIGMA, None),
             GainModel::Steady => (0.0, None),
             GainModel::Aec => (0.0, Some(Aec::OV7670)),
-            GainModel::Clips => (crate::SensorNoise::typical().gain_sigma, None),
+            GainModel::Clips => (CLIPS_GAIN_SIGMA, None),
         };
         noise.gain_sigma = sigma;
         noise.aec = aec;
+    }
+}
+
+impl core::fmt::Display for GainModel {
+    /// [`GainModel::name`], as the command line's defaults print it.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

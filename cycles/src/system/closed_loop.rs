@@ -239,7 +239,7 @@ pub fn evasion_trial(
         start: encounter::tested_start(),
         noise: true,
         exposure: 0.0,
-        gain: alvs_sim::GainModel::Clips,
+        gain: alvs_sim::GainModel::default(),
         trace: false,
     };
     let result = encounter::run_with(&e, Box::new(robot), &|_| {});

@@ -118,7 +118,7 @@ pub struct CameraArgs {
     /// light); `aec`, the OV7670's documented automatic exposure: it holds while the view's mean
     /// grey stays within ±8.3 % of the first view's and steps by 1/16 a frame when it leaves
     /// (docs/world.md, "The camera's gain").
-    #[arg(long = "camera-gain", default_value = "clips", value_name = "MODEL")]
+    #[arg(long = "camera-gain", default_value_t = alvs_sim::GainModel::default(), value_name = "MODEL")]
     pub gain: alvs_sim::GainModel,
 }
 

@@ -40,7 +40,7 @@ pub struct TablesArgs {
     firmware: bool,
     /// How the camera's global gain moves from frame to frame in every run, as each
     /// experiment's `--camera-gain`: `clips` (the worlds' camera), `jitter`, `steady` or `aec`.
-    #[arg(long = "camera-gain", default_value = "clips", value_name = "MODEL")]
+    #[arg(long = "camera-gain", default_value_t = alvs_sim::GainModel::default(), value_name = "MODEL")]
     gain: alvs_sim::GainModel,
     /// Threads of each run (default: the available parallelism); results do not depend on it.
     #[arg(long, value_name = "J")]

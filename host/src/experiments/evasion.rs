@@ -82,7 +82,7 @@ impl Default for EvasionConfig {
             world: BuiltinWorld::Fu2019,
             background: None,
             exposure: 0.0,
-            gain: alvs_sim::GainModel::Clips,
+            gain: alvs_sim::GainModel::default(),
         }
     }
 }

@@ -52,7 +52,7 @@ impl Default for ArenaConfig {
             fsm: alvs_tasks::model::fsm::FsmParams::default(),
             noise: true,
             exposure: 0.0,
-            gain: alvs_sim::GainModel::Clips,
+            gain: alvs_sim::GainModel::default(),
             trace: false,
         }
     }
