@@ -324,7 +324,8 @@ impl Fields {
     /// exactly, no multiply and no shift, two pixels per step in the 16-bit lanes of a word
     /// (`L̂ ≤ 1275`). Peak: lane-wise maximum (`USUB16` + `SEL`). Moments: the floor as a
     /// lane-wise select, then `Σ L̂` and `Σ L̂·x` of the pair by one `SMLAD` each (against
-    /// `[1, 1]` and `[x, x + 1]`); a row's `Σ L̂·x ≤ 99·1275·98 < 2^31`.
+    /// `[1, 1]` and `[x, x + 1]`); a row's `Σ L̂·x ≤ 99·1275·98 < 2^31`. The peak's pass keeps
+    /// each row's peak, and the moments' pass skips the rows whose peak is under the floor.
     fn recentre_table_i(&mut self, maps: &Maps, p: &Params) {
         let sal = |c: u32| (c & 0xFF) + ((c >> 6) & 0x3FC);
         // L̂ of two cells in the lanes of a word: bytes [on0, off0, on1, off1], then
@@ -333,25 +334,34 @@ impl Fields {
             let t = (c0 & 0xFFFF) | (c1 << 16);
             dsp::uxtab16((t >> 6) & 0x03FC_03FC, t)
         };
+        // each window row's peak (`L̂ ≤ 1275`), for the moments' pass to skip the rows with no
+        // pixel at the floor: they add 0 to every moment
+        let mut row_peak = [0u16; HEIGHT];
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.choices.r_c.min(p.table1.r_af));
-            let (mut peak2, mut peak) = (0u32, 0u32);
-            for y in y0..=y1 {
+            let mut peak = 0u32;
+            for (y, rp) in row_peak.iter_mut().enumerate().take(y1 + 1).skip(y0) {
                 let i = y * WIDTH;
                 let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
+                let mut peak2 = 0u32;
                 for q in quads {
                     let (a, b) = (sal2(q[0], q[1]), sal2(q[2], q[3]));
                     peak2 = dsp::sel_ge16(peak2, a, peak2, a);
                     peak2 = dsp::sel_ge16(peak2, b, peak2, b);
                 }
-                rest.iter().for_each(|&c| peak = peak.max(sal(c)));
+                let mut m = (peak2 & 0xFFFF).max(peak2 >> 16);
+                rest.iter().for_each(|&c| m = m.max(sal(c)));
+                *rp = m as u16;
+                peak = peak.max(m);
             }
-            let peak = peak.max(peak2 & 0xFFFF).max(peak2 >> 16);
             // 1 ≤ ⌈peak·c_frac/100⌉ ≤ peak ≤ 1275 (or 1): a 16-bit lane
             let floor = (peak * u32::from(p.choices.c_frac)).div_ceil(100).max(1);
             let floor2 = floor | floor << 16;
             let mut mo = Moments::default();
-            for y in y0..=y1 {
+            for (y, &rp) in row_peak.iter().enumerate().take(y1 + 1).skip(y0) {
+                if u32::from(rp) < floor {
+                    continue;
+                }
                 let i = y * WIDTH;
                 let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
                 let (mut s, mut sx) = (0i32, 0i32);
