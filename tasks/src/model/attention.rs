@@ -59,6 +59,75 @@ pub fn span(c: usize, r: usize, len: usize) -> (usize, usize) {
     (c.saturating_sub(r), c.saturating_add(r).min(len - 1))
 }
 
+/// `L̂ = on + 4·off` of a cell, Table I's weights (gain 4, w = 0.25) without a multiply.
+#[inline(always)]
+fn sal_table_i(c: u32) -> u32 {
+    (c & 0xFF) + ((c >> 6) & 0x3FC)
+}
+
+/// [`sal_table_i`] of two cells in the 16-bit lanes of a word (`L̂ ≤ 1275`): bytes
+/// `[on0, off0, on1, off1]`, then `4·off` per lane (one masked shift) plus `on` per lane
+/// (`UXTAB16`).
+#[inline(always)]
+fn sal2_table_i(c0: u32, c1: u32) -> u32 {
+    let t = (c0 & 0xFFFF) | (c1 << 16);
+    dsp::uxtab16((t >> 6) & 0x03FC_03FC, t)
+}
+
+/// The largest [`sal_table_i`] of `cells` (0 if none), two pixels a step (`USUB16` + `SEL`):
+/// four cells a step, then the last four again in place of a loop over the rest (a maximum
+/// does not mind a pixel read twice).
+#[inline(always)]
+fn peak_table_i(cells: &[u32]) -> u32 {
+    let Some(last) = cells.last_chunk::<4>() else {
+        return cells.iter().fold(0, |m, &c| m.max(sal_table_i(c)));
+    };
+    let step = |peak2: u32, q: &[u32; 4]| {
+        let (a, b) = (sal2_table_i(q[0], q[1]), sal2_table_i(q[2], q[3]));
+        let peak2 = dsp::sel_ge16(peak2, a, peak2, a);
+        dsp::sel_ge16(peak2, b, peak2, b)
+    };
+    let peak2 = cells.as_chunks::<4>().0.iter().fold(step(0, last), step);
+    (peak2 & 0xFFFF).max(peak2 >> 16)
+}
+
+/// `Σ L̂` in two lanes and `Σ L̂·x` of the pixels of `quads` at or above the floor (`floor2`,
+/// in both lanes), the first pair's columns `xs` (`[x, x + 1]`): per pair the floor as a
+/// lane-wise select (`USUB16` + `SEL`), a lane-wise add and one `SMLAD`. A row's lanes sum at
+/// most 50 pixels each (`≤ 63,750`): no carry between them.
+#[inline(always)]
+fn moments_table_i(quads: &[[u32; 4]], floor2: u32, mut xs: u32) -> (u32, i32) {
+    let (mut s2, mut sx) = (0u32, 0i32);
+    for q in quads {
+        let a = sal2_table_i(q[0], q[1]);
+        let a = dsp::sel_ge16(a, floor2, a, 0);
+        let b = sal2_table_i(q[2], q[3]);
+        let b = dsp::sel_ge16(b, floor2, b, 0);
+        s2 = s2.wrapping_add(a).wrapping_add(b);
+        sx = dsp::smlad(a, xs, sx);
+        sx = dsp::smlad(b, xs.wrapping_add(0x0002_0002), sx);
+        xs = xs.wrapping_add(0x0004_0004);
+    }
+    (s2, sx)
+}
+
+/// [`moments_table_i`] of one quad with a floor and the columns per pair, added to `(s2, sx)`.
+#[inline(always)]
+fn moments_table_i_last(
+    q: &[u32; 4],
+    floor: [u32; 2],
+    xs: [u32; 2],
+    s2: u32,
+    sx: i32,
+) -> (u32, i32) {
+    let a = sal2_table_i(q[0], q[1]);
+    let a = dsp::sel_ge16(a, floor[0], a, 0);
+    let b = sal2_table_i(q[2], q[3]);
+    let b = dsp::sel_ge16(b, floor[1], b, 0);
+    let sx = dsp::smlad(a, xs[0], sx);
+    (s2.wrapping_add(a).wrapping_add(b), dsp::smlad(b, xs[1], sx))
+}
+
 /// One attention field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Field {
@@ -243,43 +312,61 @@ impl Fields {
     }
 
     /// [`Fields::spawn`] with the threshold `t_a` in place of `p.t_a` ([`spawn_threshold`]).
+    ///
+    /// The squares are sorted by their first column once; each row takes those that cover it
+    /// in that order. With Table I's weights a gap's peak is taken two pixels a step
+    /// (`L̂ = on + 4·off` in the lanes of a word, as in `Fields::recentre_table_i`), and only a
+    /// gap whose peak beats the best so far is scanned again for its first pixel at that peak:
+    /// the same pixel as the scan in raster order with a strict `>`.
     pub fn spawn_above(&mut self, m: &Maps, w: &Weights, p: &Params, t_a: u32) -> Option<u32> {
         // `Params::max_fields`: no new field while that many live
         if self.list.is_full() || self.list.len() >= usize::from(p.firmware.max_fields) {
             return None;
         }
         let r = usize::from(p.exclusion());
-        let mut best = (0u32, 0usize, 0usize);
-        // covered columns of a row as half-open intervals, sorted by start (`cov[..k]` is
-        // rewritten for every row; kept out of the loop so it is not cleared per row)
-        let mut cov = [(0usize, 0usize); MAX_AFS];
-        for y in 0..HEIGHT {
-            let mut k = 0;
-            for f in self.list.iter() {
-                if usize::from(f.y).abs_diff(y) <= r {
-                    let x = usize::from(f.x);
-                    let iv = (x.saturating_sub(r), (x + r + 1).min(WIDTH));
-                    // insertion by start (at most MAX_AFS entries)
-                    let mut j = k;
-                    while j > 0 && cov[j - 1].0 > iv.0 {
-                        cov[j] = cov[j - 1];
-                        j -= 1;
-                    }
-                    cov[j] = iv;
-                    k += 1;
-                }
+        // each field's square as (first column, end column, first row, last row), columns
+        // half-open, sorted by first column (insertion, at most MAX_AFS entries)
+        let mut sq = [(0usize, 0usize, 0usize, 0usize); MAX_AFS];
+        let mut k = 0;
+        for f in self.list.iter() {
+            let (x, y) = (usize::from(f.x), usize::from(f.y));
+            let s = (
+                x.saturating_sub(r).min(WIDTH),
+                (x + r + 1).min(WIDTH),
+                y.saturating_sub(r),
+                y + r,
+            );
+            let mut j = k;
+            while j > 0 && sq[j - 1].0 > s.0 {
+                sq[j] = sq[j - 1];
+                j -= 1;
             }
-            let row = y * WIDTH;
-            let Some(cells) = m.cells.get(row..row + WIDTH) else {
-                break;
-            };
+            sq[j] = s;
+            k += 1;
+        }
+        let sq = &sq[..k];
+        let table_i = (w.on_q8, w.off_q8) == (256, 1024);
+        let mut best = (0u32, 0usize, 0usize);
+        for (y, cells) in m.cells.chunks_exact(WIDTH).enumerate() {
             let mut x = 0;
-            for &(c0, c1) in cov[..k].iter().chain(core::iter::once(&(WIDTH, WIDTH))) {
-                if c0 > x {
-                    for (i, &c) in cells[x..c0].iter().enumerate() {
-                        let l = w.saliency_cell(c);
+            for &(c0, c1, y0, y1) in sq.iter().chain(core::iter::once(&(WIDTH, WIDTH, 0, y))) {
+                if y < y0 || y > y1 {
+                    continue;
+                }
+                if let Some(gap) = cells.get(x..c0) {
+                    if table_i {
+                        let l = peak_table_i(gap);
                         if l > best.0 {
+                            // the gap's first pixel at its peak
+                            let i = gap.iter().position(|&c| sal_table_i(c) == l).unwrap_or(0);
                             best = (l, x + i, y);
+                        }
+                    } else {
+                        for (i, &c) in gap.iter().enumerate() {
+                            let l = w.saliency_cell(c);
+                            if l > best.0 {
+                                best = (l, x + i, y);
+                            }
                         }
                     }
                 }
@@ -322,67 +409,61 @@ impl Fields {
 
     /// [`Fields::recentre`] with Table I's weights (gain 4, w = 0.25): `L̂ = on + 4·off`
     /// exactly, no multiply and no shift, two pixels per step in the 16-bit lanes of a word
-    /// (`L̂ ≤ 1275`). Peak: lane-wise maximum (`USUB16` + `SEL`). Moments: the floor as a
-    /// lane-wise select, then `Σ L̂` and `Σ L̂·x` of the pair by one `SMLAD` each (against
-    /// `[1, 1]` and `[x, x + 1]`); a row's `Σ L̂·x ≤ 99·1275·98 < 2^31`. The peak's pass keeps
-    /// each row's peak, and the moments' pass skips the rows whose peak is under the floor.
+    /// (`L̂ ≤ 1275`). Peak: lane-wise maximum (`USUB16` + `SEL`, [`peak_table_i`]), kept per
+    /// row. Moments ([`moments_table_i`]): the floor as a lane-wise select, `Σ L̂` lane-wise and
+    /// `Σ L̂·x` of the pair by one `SMLAD` (against `[x, x + 1]`); a row's `Σ L̂·x ≤
+    /// 99·1275·98 < 2^31`. A row's last `w % 4` pixels come from its last four again, the
+    /// others' lanes under a floor no `L̂` reaches. The rows whose peak is under the floor
+    /// add 0 to every moment: skipped.
     fn recentre_table_i(&mut self, maps: &Maps, p: &Params) {
-        let sal = |c: u32| (c & 0xFF) + ((c >> 6) & 0x3FC);
-        // L̂ of two cells in the lanes of a word: bytes [on0, off0, on1, off1], then
-        // `4·off` per lane (one masked shift) plus `on` per lane (`UXTAB16`)
-        let sal2 = |c0: u32, c1: u32| {
-            let t = (c0 & 0xFFFF) | (c1 << 16);
-            dsp::uxtab16((t >> 6) & 0x03FC_03FC, t)
-        };
         // each window row's peak (`L̂ ≤ 1275`), for the moments' pass to skip the rows with no
         // pixel at the floor: they add 0 to every moment
         let mut row_peak = [0u16; HEIGHT];
         for f in self.list.iter_mut() {
             let ((x0, x1), (y0, y1)) = f.square(p.choices.r_c.min(p.table1.r_af));
+            let xe = x1 + 1;
+            // the window's rows, whole
+            let band = maps.cells.get(y0 * WIDTH..(y1 + 1) * WIDTH).unwrap_or(&[]);
+            let rows = band.as_chunks::<WIDTH>().0;
             let mut peak = 0u32;
-            for (y, rp) in row_peak.iter_mut().enumerate().take(y1 + 1).skip(y0) {
-                let i = y * WIDTH;
-                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
-                let mut peak2 = 0u32;
-                for q in quads {
-                    let (a, b) = (sal2(q[0], q[1]), sal2(q[2], q[3]));
-                    peak2 = dsp::sel_ge16(peak2, a, peak2, a);
-                    peak2 = dsp::sel_ge16(peak2, b, peak2, b);
-                }
-                let mut m = (peak2 & 0xFFFF).max(peak2 >> 16);
-                rest.iter().for_each(|&c| m = m.max(sal(c)));
+            for (row, rp) in rows.iter().zip(row_peak.iter_mut()) {
+                let m = peak_table_i(row.get(x0..xe).unwrap_or(&[]));
                 *rp = m as u16;
                 peak = peak.max(m);
             }
             // 1 ≤ ⌈peak·c_frac/100⌉ ≤ peak ≤ 1275 (or 1): a 16-bit lane
             let floor = (peak * u32::from(p.choices.c_frac)).div_ceil(100).max(1);
             let floor2 = floor | floor << 16;
+            // a row's last four cells again, for the `w % 4` its quads leave out: the lanes
+            // counted already take a floor no `L̂` reaches
+            let w = xe.saturating_sub(x0);
+            let fresh = |j: usize| if j + w % 4 >= 4 { floor } else { 0xFFFF };
+            let last_floor = [fresh(0) | fresh(1) << 16, fresh(2) | fresh(3) << 16];
+            let xl = xe.saturating_sub(4) as u32;
+            let last_xs = [xl | (xl + 1) << 16, (xl + 2) | (xl + 3) << 16];
+            let xs0 = (x0 as u32) | (x0 as u32 + 1) << 16;
             let mut mo = Moments::default();
-            for (y, &rp) in row_peak.iter().enumerate().take(y1 + 1).skip(y0) {
+            for ((y, row), &rp) in (y0..).zip(rows).zip(row_peak.iter()) {
                 if u32::from(rp) < floor {
                     continue;
                 }
-                let i = y * WIDTH;
-                let (quads, rest) = maps.cells[i + x0..=i + x1].as_chunks::<4>();
-                let (mut s, mut sx) = (0i32, 0i32);
-                // the columns of a pair's two lanes
-                let mut xs = (x0 as u32) | (x0 as u32 + 1) << 16;
-                for q in quads {
-                    for l in [sal2(q[0], q[1]), sal2(q[2], q[3])] {
-                        let l = dsp::sel_ge16(l, floor2, l, 0);
-                        s = dsp::smlad(l, 0x0001_0001, s);
-                        sx = dsp::smlad(l, xs, sx);
-                        xs = xs.wrapping_add(0x0002_0002);
+                let row = row.get(x0..xe).unwrap_or(&[]);
+                let (s, sx) = match row.last_chunk::<4>() {
+                    Some(last) => {
+                        let (quads, _) = row.as_chunks::<4>();
+                        let (s2, sx) = moments_table_i(quads, floor2, xs0);
+                        let (s2, sx) = moments_table_i_last(last, last_floor, last_xs, s2, sx);
+                        // lanes of at most 50 pixels: `Σ L̂ ≤ 63,750` each, no carry between
+                        // them; `Σ L̂·x ≥ 0`
+                        ((s2 & 0xFFFF) + (s2 >> 16), sx as u32)
                     }
-                }
-                // both sums are non-negative (lanes ≤ 1275, columns ≤ 98)
-                let (mut s, mut sx) = (s as u32, sx as u32);
-                for (x, &c) in (x1 + 1 - rest.len()..).zip(rest) {
-                    let l = sal(c);
-                    let l = if l >= floor { l } else { 0 };
-                    s += l;
-                    sx += l * x as u32;
-                }
+                    // fewer than four cells (a half side of 1 at most)
+                    None => (x0..).zip(row).fold((0, 0), |(s, sx), (x, &c)| {
+                        let l = sal_table_i(c);
+                        let l = if l >= floor { l } else { 0 };
+                        (s + l, sx + l * x as u32)
+                    }),
+                };
                 mo.add_row(s, sx, y);
             }
             mo.move_centroid(f);
@@ -879,6 +960,7 @@ mod tests {
                 fields in prop::collection::vec((0u8..99, 0u8..72), 0..=MAX_AFS),
                 r_af in 1u8..=99,
                 r_c in 1u8..=99,
+                r_x in 0u8..=99,
                 c_frac in 0u8..=100,
                 gain in 1u8..=16,
                 w in prop::sample::select(&[0.0f32, 0.25, 0.3, 1.0, 4.0][..]),
@@ -899,7 +981,7 @@ mod tests {
                         _ => {}
                     }
                 }
-                let p = Params { table1: TableOne { r_af, w, t_a, ..Params::PAPER.table1 }, choices: Choices { r_c, c_frac, gain, ..Params::PAPER.choices }, ..Params::PAPER };
+                let p = Params { table1: TableOne { r_af, w, t_a, ..Params::PAPER.table1 }, choices: Choices { r_c, r_x: NonZeroU8::new(r_x), c_frac, gain, ..Params::PAPER.choices }, ..Params::PAPER };
                 prop_assert_eq!(p.validate(), Ok(()));
                 let w = Weights::new(&p);
                 let mut f = Fields::default();
