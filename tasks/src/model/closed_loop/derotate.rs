@@ -234,6 +234,9 @@ impl Map {
         };
         let mut old: Column<T> = [img[0][0]; SPAN + 2];
         let mut one = |x: usize| {
+            if T::NEAREST && self.gather(img, x, fill) {
+                return;
+            }
             self.row_pass(img, &mut old, x, fill);
             old[0] = fill.unwrap_or(old[1]);
             old[HEIGHT + 1] = fill.unwrap_or(old[HEIGHT]);
@@ -245,6 +248,57 @@ impl Map {
         } else {
             (0..WIDTH).rev().for_each(one);
         }
+    }
+
+    /// Both passes of column `x` for a nearest pixel, straight from the old image: no copy.
+    /// The row pass takes old column `near[x]` whole, so new row `y` takes that column's row
+    /// [`column`] would read from its copy. Not taken (false) where column `x` is its own source
+    /// (its rows are read as they are written: the copy is needed), nor outside without a fill.
+    /// The source column lies beyond `x` in the visiting order, so it is still the old one.
+    fn gather<T: Pixel>(&self, img: &mut Rows<T>, x: usize, fill: Option<T>) -> bool {
+        let (Some(&j), Some(&s)) = (self.near.get(x), self.scale.get(x)) else {
+            return false;
+        };
+        let j = usize::from(j);
+        if x >= WIDTH || j == x {
+            return false;
+        }
+        if j >= WIDTH {
+            // outside: every pixel of the copy, and so of the column, is the fill
+            let Some(v) = fill else {
+                return false;
+            };
+            img.iter_mut().for_each(|r| r[x] = v);
+            return true;
+        }
+        let s = i32::from(s);
+        let n = moving_rows::<T>(s);
+        img[n..HEIGHT - n].iter_mut().for_each(|r| r[x] = r[j]);
+        if n == 0 {
+            return true;
+        }
+        // the copy's entries: `old[0]`, `old[1]`, `old[HALF_ROWS]`, `old[HALF_ROWS + 1]`,
+        // `old[HEIGHT]`, `old[HEIGHT + 1]`
+        let (first, last) = (img[0][j], img[HEIGHT - 1][j]);
+        let (centre_up, centre_down) = (img[HALF_ROWS - 1][j], img[HALF_ROWS][j]);
+        let (above, below) = (fill.unwrap_or(first), fill.unwrap_or(last));
+        let step = 2 * s;
+        let q = (CY2 << 12) - CY2 * s;
+        let [a, b, c] = [-128, 0, HALF - 255].map(|end| rows_below(q, step, end, n));
+        let upper = &mut img[..n];
+        upper[..a].iter_mut().for_each(|r| r[x] = above);
+        upper[a..b].iter_mut().for_each(|r| r[x] = first);
+        upper[c..].iter_mut().for_each(|r| r[x] = centre_up);
+        gather_rows(img, b..c.min(n), x, j, q + b as i32 * step, step);
+        let q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s;
+        let [a, b, c] = [HALF, LAST + 1, LAST + 129].map(|end| rows_below(q, step, end, n));
+        let lower = &mut img[HEIGHT - n..];
+        lower[..a].iter_mut().for_each(|r| r[x] = centre_down);
+        lower[b..c].iter_mut().for_each(|r| r[x] = last);
+        lower[c..].iter_mut().for_each(|r| r[x] = below);
+        let y = HEIGHT - n;
+        gather_rows(img, y + a..y + b, x, j, q + a as i32 * step, step);
+        true
     }
 
     /// Column `x` of the row pass into `old[1..=HEIGHT]` (row `y` at `[y + 1]`), read from the
@@ -317,15 +371,7 @@ fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, s_q12: i32) {
     if x >= WIDTH {
         return;
     }
-    let ds = (s_q12 - 4096).unsigned_abs();
-    // the source offset of a row at distance d = |2y − 2c_y| from the centre line is
-    // d·|s − 1|/2 pixels = d·ds >> 5 in Q8; the odd distances d from `first` to 71 are the
-    // rows that move: the `n` rows of each half farthest from the centre line
-    let n = (ds != 0)
-        .then(|| (T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1)
-        .and_then(|first| usize::try_from(first / 2).ok())
-        .and_then(|k| HALF_ROWS.checked_sub(k))
-        .unwrap_or(0);
+    let n = moving_rows::<T>(s_q12);
     for (r, &o) in img[n..HEIGHT - n].iter_mut().zip(&old[n + 1..]) {
         r[x] = o;
     }
@@ -350,6 +396,50 @@ fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, s_q12: i32) {
     between_rows(&mut lower[a..b], old, x, q + a as i32 * step, step);
     lower[b..c].iter_mut().for_each(|r| r[x] = old[HEIGHT]);
     lower[c..].iter_mut().for_each(|r| r[x] = old[HEIGHT + 1]);
+}
+
+/// The rows of each half that move with vertical factor `s_q12` (Q12): the `n` farthest from
+/// the centre line, whose source lies at least [`Pixel::MIN_SHIFT_Q8`] away.
+#[inline(always)]
+fn moving_rows<T: Pixel>(s_q12: i32) -> usize {
+    let ds = (s_q12 - 4096).unsigned_abs();
+    // the source offset of a row at distance d = |2y − 2c_y| from the centre line is
+    // d·|s − 1|/2 pixels = d·ds >> 5 in Q8; the odd distances d from `first` to 71 are the
+    // rows that move
+    (ds != 0)
+        .then(|| (T::MIN_SHIFT_Q8 << 5).div_ceil(ds) | 1)
+        .and_then(|first| usize::try_from(first / 2).ok())
+        .and_then(|k| HALF_ROWS.checked_sub(k))
+        .unwrap_or(0)
+}
+
+/// Rows `ys` of column `x`, each the nearest row to its source `q` (Q8 · 32, rising by `step`
+/// a row; inside the image) of old column `j`: [`Pixel::sample`] of a nearest pixel, read
+/// from the image instead of a copy.
+#[inline(always)]
+fn gather_rows<T: Pixel>(
+    img: &mut Rows<T>,
+    ys: core::ops::Range<usize>,
+    x: usize,
+    j: usize,
+    q: i32,
+    step: i32,
+) {
+    let (Ok(mut q), Ok(step)) = (u32::try_from(q), u32::try_from(step)) else {
+        return;
+    };
+    if x >= WIDTH || j >= WIDTH {
+        return;
+    }
+    for y in ys {
+        // inside the image: the minimum only spares a bounds test
+        let i = (((q + (128 << 5)) >> 13) as usize).min(HEIGHT - 1);
+        let v = img[i][j];
+        if let Some(r) = img.get_mut(y) {
+            r[x] = v;
+        }
+        q += step;
+    }
 }
 
 /// How many of `n` rows, from source `q` (Q8 · 32) rising by `step` > 0 a row, have their
