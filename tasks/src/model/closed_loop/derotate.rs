@@ -273,7 +273,12 @@ impl Map {
         }
         let s = i32::from(s);
         let n = moving_rows::<T>(s);
-        img[n..HEIGHT - n].iter_mut().for_each(|r| r[x] = r[j]);
+        // the rows that do not move, an even number: two a turn of the loop
+        for pair in img[n..HEIGHT - n].chunks_exact_mut(2) {
+            if let [a, b] = pair {
+                (a[x], b[x]) = (a[j], b[j]);
+            }
+        }
         if n == 0 {
             return true;
         }
