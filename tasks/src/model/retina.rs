@@ -197,8 +197,7 @@ impl Retina {
             return;
         }
         let map = Map::new(turn);
-        map.remap(&mut self.prev, None);
-        map.remap(&mut self.cells, Some(0));
+        map.remap_pair(&mut self.prev, None, &mut self.cells, Some(0));
         let (lo, hi) = map.fresh_columns();
         // two turns before one frame: the hull of both (at worst a frame without change)
         self.fresh = match (self.fresh, lo < hi) {

@@ -234,14 +234,8 @@ impl Map {
         };
         let mut old: Column<T> = [img[0][0]; SPAN + 2];
         let mut one = |x: usize| {
-            if T::NEAREST && self.gather(img, x, fill) {
-                return;
-            }
-            self.row_pass(img, &mut old, x, fill);
-            old[0] = fill.unwrap_or(old[1]);
-            old[HEIGHT + 1] = fill.unwrap_or(old[HEIGHT]);
-            let s = self.scale.get(x).map_or(4096, |&s| i32::from(s));
-            column(img, &old, x, s);
+            let runs = Runs::new(self.scale.get(x).map_or(4096, |&s| i32::from(s)));
+            self.column_of(img, &mut old, x, fill, &runs);
         };
         if self.right {
             (0..WIDTH).for_each(&mut one);
@@ -250,13 +244,61 @@ impl Map {
         }
     }
 
+    /// [`Map::remap`] of two images in one sweep (the retina's `P(t−1)` and its cells): each
+    /// column's runs are bounded once for both.
+    pub fn remap_pair<A: Pixel, B: Pixel>(
+        &self,
+        a: &mut [A; PIXELS],
+        fill_a: Option<A>,
+        b: &mut [B; PIXELS],
+        fill_b: Option<B>,
+    ) {
+        let (Ok(a), Ok(b)) = (
+            <&mut Rows<A>>::try_from(a.as_chunks_mut::<WIDTH>().0),
+            <&mut Rows<B>>::try_from(b.as_chunks_mut::<WIDTH>().0),
+        ) else {
+            return;
+        };
+        let mut old_a: Column<A> = [a[0][0]; SPAN + 2];
+        let mut old_b: Column<B> = [b[0][0]; SPAN + 2];
+        let mut one = |x: usize| {
+            let runs = Runs::new(self.scale.get(x).map_or(4096, |&s| i32::from(s)));
+            self.column_of(a, &mut old_a, x, fill_a, &runs);
+            self.column_of(b, &mut old_b, x, fill_b, &runs);
+        };
+        if self.right {
+            (0..WIDTH).for_each(&mut one);
+        } else {
+            (0..WIDTH).rev().for_each(one);
+        }
+    }
+
+    /// Both passes of column `x` of `img`, through the copy `old` where it needs one.
+    #[inline(always)]
+    fn column_of<T: Pixel>(
+        &self,
+        img: &mut Rows<T>,
+        old: &mut Column<T>,
+        x: usize,
+        fill: Option<T>,
+        runs: &Runs,
+    ) {
+        if T::NEAREST && self.gather(img, x, fill, runs) {
+            return;
+        }
+        self.row_pass(img, old, x, fill);
+        old[0] = fill.unwrap_or(old[1]);
+        old[HEIGHT + 1] = fill.unwrap_or(old[HEIGHT]);
+        column(img, old, x, runs);
+    }
+
     /// Both passes of column `x` for a nearest pixel, straight from the old image: no copy.
     /// The row pass takes old column `near[x]` whole, so new row `y` takes that column's row
     /// [`column`] would read from its copy. Not taken (false) where column `x` is its own source
     /// (its rows are read as they are written: the copy is needed), nor outside without a fill.
     /// The source column lies beyond `x` in the visiting order, so it is still the old one.
-    fn gather<T: Pixel>(&self, img: &mut Rows<T>, x: usize, fill: Option<T>) -> bool {
-        let (Some(&j), Some(&s)) = (self.near.get(x), self.scale.get(x)) else {
+    fn gather<T: Pixel>(&self, img: &mut Rows<T>, x: usize, fill: Option<T>, runs: &Runs) -> bool {
+        let Some(&j) = self.near.get(x) else {
             return false;
         };
         let j = usize::from(j);
@@ -271,8 +313,7 @@ impl Map {
             img.iter_mut().for_each(|r| r[x] = v);
             return true;
         }
-        let s = i32::from(s);
-        let n = moving_rows::<T>(s);
+        let n = moving_rows::<T>(runs.s);
         // the rows that do not move, an even number: two a turn of the loop
         for pair in img[n..HEIGHT - n].chunks_exact_mut(2) {
             if let [a, b] = pair {
@@ -287,16 +328,15 @@ impl Map {
         let (first, last) = (img[0][j], img[HEIGHT - 1][j]);
         let (centre_up, centre_down) = (img[HALF_ROWS - 1][j], img[HALF_ROWS][j]);
         let (above, below) = (fill.unwrap_or(first), fill.unwrap_or(last));
-        let step = 2 * s;
-        let q = (CY2 << 12) - CY2 * s;
-        let [a, b, c] = [-128, 0, HALF - 255].map(|end| rows_below(q, step, end, n));
+        let (step, q) = (runs.step, runs.q);
+        let [a, b, c] = runs.upper(n);
         let upper = &mut img[..n];
         upper[..a].iter_mut().for_each(|r| r[x] = above);
         upper[a..b].iter_mut().for_each(|r| r[x] = first);
         upper[c..].iter_mut().for_each(|r| r[x] = centre_up);
         gather_rows(img, b..c.min(n), x, j, q + b as i32 * step, step);
-        let q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s;
-        let [a, b, c] = [HALF, LAST + 1, LAST + 129].map(|end| rows_below(q, step, end, n));
+        let q = q + (HEIGHT - n) as i32 * step;
+        let [a, b, c] = runs.lower(n);
         let lower = &mut img[HEIGHT - n..];
         lower[..a].iter_mut().for_each(|r| r[x] = centre_down);
         lower[b..c].iter_mut().for_each(|r| r[x] = last);
@@ -372,28 +412,26 @@ type Column<T> = [T; SPAN + 2];
 ///
 /// The source rises with `y`, so each half's rows fall into runs in that order (outside, edge,
 /// between two rows, edge); their bounds are computed once, and no pixel is clamped.
-fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, s_q12: i32) {
+fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, runs: &Runs) {
     if x >= WIDTH {
         return;
     }
-    let n = moving_rows::<T>(s_q12);
+    let n = moving_rows::<T>(runs.s);
     for (r, &o) in img[n..HEIGHT - n].iter_mut().zip(&old[n + 1..]) {
         r[x] = o;
     }
     if n == 0 {
         return;
     }
-    // row y's source, Q8 · 32: CY2·4096 + (2y − CY2)·s, rising by 2s a row
-    let step = 2 * s_q12;
-    let q = (CY2 << 12) - CY2 * s_q12;
-    let [a, b, c] = [-128, 0, HALF - 255].map(|end| rows_below(q, step, end, n));
+    let (step, q) = (runs.step, runs.q);
+    let [a, b, c] = runs.upper(n);
     let upper = &mut img[..n];
     upper[..a].iter_mut().for_each(|r| r[x] = old[0]);
     upper[a..b].iter_mut().for_each(|r| r[x] = old[1]);
     between_rows(&mut upper[b..c], old, x, q + b as i32 * step, step);
     upper[c..].iter_mut().for_each(|r| r[x] = old[HALF_ROWS]);
-    let q = (CY2 << 12) + (CY2 + 2 - 2 * n as i32) * s_q12;
-    let [a, b, c] = [HALF, LAST + 1, LAST + 129].map(|end| rows_below(q, step, end, n));
+    let q = q + (HEIGHT - n) as i32 * step;
+    let [a, b, c] = runs.lower(n);
     let lower = &mut img[HEIGHT - n..];
     lower[..a]
         .iter_mut()
@@ -444,6 +482,50 @@ fn gather_rows<T: Pixel>(
             r[x] = v;
         }
         q += step;
+    }
+}
+
+/// A column's runs (see [`column`]) before they are cut to the rows that move: computed once
+/// for every image of a column, whatever its pixel's rows that move.
+struct Runs {
+    /// The vertical factor, Q12.
+    s: i32,
+    /// Row 0's source, Q8 · 32: `CY2·4096 + (2y − CY2)·s` at `y = 0`.
+    q: i32,
+    /// What the source rises by a row, `2s`.
+    step: i32,
+    /// How many rows from row 0 have their source above −½ (outside), row 0 (the edge) and
+    /// the centre line's row (between two rows): the upper half's run ends.
+    upper: [usize; 3],
+    /// The same below the lower half's first row, the last row, and ½ beyond it.
+    lower: [usize; 3],
+}
+
+impl Runs {
+    #[inline(always)]
+    fn new(s: i32) -> Runs {
+        let (q, step) = ((CY2 << 12) - CY2 * s, 2 * s);
+        Runs {
+            s,
+            q,
+            step,
+            upper: [-128, 0, HALF - 255].map(|end| rows_below(q, step, end, usize::MAX)),
+            lower: [HALF, LAST + 1, LAST + 129].map(|end| rows_below(q, step, end, usize::MAX)),
+        }
+    }
+
+    /// The upper half's run ends when its `n` outermost rows move (rows from row 0).
+    #[inline(always)]
+    fn upper(&self, n: usize) -> [usize; 3] {
+        self.upper.map(|k| k.min(n))
+    }
+
+    /// The lower half's run ends when its `n` outermost rows move (rows from row
+    /// `HEIGHT − n`): the source of row `HEIGHT − n` lies `(HEIGHT − n)·step` above row 0's,
+    /// so that many fewer rows lie below each end.
+    #[inline(always)]
+    fn lower(&self, n: usize) -> [usize; 3] {
+        self.lower.map(|k| k.saturating_sub(HEIGHT - n).min(n))
     }
 }
 
@@ -595,7 +677,7 @@ mod tests {
             for (o, row) in old[1..].iter_mut().zip(img.iter()) {
                 *o = row[7];
             }
-            column(&mut img, &old, 7, s);
+            column(&mut img, &old, 7, &Runs::new(s));
             for (y, row) in img.iter().enumerate() {
                 let d = 2 * y as i32 - CY2;
                 let q = (d * s + (CY2 << 12)) >> 5;
@@ -771,10 +853,17 @@ mod tests {
                 plain::remap(&m, &mut plain, fill);
                 assert!(fast == plain, "grey, turn {deg}, fill {fill:?}");
                 let (mut fast, mut plain) = (cells, cells);
-                let fill = fill.map(u32::from);
-                m.remap(&mut fast, fill);
-                plain::remap(&m, &mut plain, fill);
-                assert!(fast == plain, "cells, turn {deg}, fill {fill:?}");
+                let fill_c = fill.map(u32::from);
+                m.remap(&mut fast, fill_c);
+                plain::remap(&m, &mut plain, fill_c);
+                assert!(fast == plain, "cells, turn {deg}, fill {fill_c:?}");
+                // both in one sweep, as the retina does
+                let (mut pair_grey, mut pair_cells) = (grey, cells);
+                m.remap_pair(&mut pair_grey, fill, &mut pair_cells, fill_c);
+                let mut plain_grey = grey;
+                plain::remap(&m, &mut plain_grey, fill);
+                assert!(pair_grey == plain_grey, "pair, grey, turn {deg}, fill {fill:?}");
+                assert!(pair_cells == plain, "pair, cells, turn {deg}, fill {fill_c:?}");
             }
         }
     }
