@@ -289,7 +289,7 @@ impl Map {
         self.row_pass(img, old, x, fill);
         old[0] = fill.unwrap_or(old[1]);
         old[HEIGHT + 1] = fill.unwrap_or(old[HEIGHT]);
-        column(img, old, x, runs);
+        column(img, old, x, runs, fill.is_none());
     }
 
     /// Both passes of column `x` for a nearest pixel, straight from the old image: no copy.
@@ -411,8 +411,10 @@ type Column<T> = [T; SPAN + 2];
 /// [`Pixel::MIN_SHIFT_Q8`] away (near the centre line) take their own row of `old`.
 ///
 /// The source rises with `y`, so each half's rows fall into runs in that order (outside, edge,
-/// between two rows, edge); their bounds are computed once, and no pixel is clamped.
-fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, runs: &Runs) {
+/// between two rows, edge); their bounds are computed once, and no pixel is clamped. With
+/// `edges` what lies outside is the edge row (`old[0] = old[1]`, `old[HEIGHT + 1] =
+/// old[HEIGHT]`): the edge run takes it too.
+fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, runs: &Runs, edges: bool) {
     if x >= WIDTH {
         return;
     }
@@ -426,8 +428,13 @@ fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, runs: &Runs) {
     let (step, q) = (runs.step, runs.q);
     let [a, b, c] = runs.upper(n);
     let upper = &mut img[..n];
-    upper[..a].iter_mut().for_each(|r| r[x] = old[0]);
-    upper[a..b].iter_mut().for_each(|r| r[x] = old[1]);
+    if edges {
+        // what lies outside is the edge row: one run
+        upper[..b].iter_mut().for_each(|r| r[x] = old[1]);
+    } else {
+        upper[..a].iter_mut().for_each(|r| r[x] = old[0]);
+        upper[a..b].iter_mut().for_each(|r| r[x] = old[1]);
+    }
     between_rows(&mut upper[b..c], old, x, q + b as i32 * step, step);
     upper[c..].iter_mut().for_each(|r| r[x] = old[HALF_ROWS]);
     let q = q + (HEIGHT - n) as i32 * step;
@@ -437,8 +444,12 @@ fn column<T: Pixel>(img: &mut Rows<T>, old: &Column<T>, x: usize, runs: &Runs) {
         .iter_mut()
         .for_each(|r| r[x] = old[HALF_ROWS + 1]);
     between_rows(&mut lower[a..b], old, x, q + a as i32 * step, step);
-    lower[b..c].iter_mut().for_each(|r| r[x] = old[HEIGHT]);
-    lower[c..].iter_mut().for_each(|r| r[x] = old[HEIGHT + 1]);
+    if edges {
+        lower[b..].iter_mut().for_each(|r| r[x] = old[HEIGHT]);
+    } else {
+        lower[b..c].iter_mut().for_each(|r| r[x] = old[HEIGHT]);
+        lower[c..].iter_mut().for_each(|r| r[x] = old[HEIGHT + 1]);
+    }
 }
 
 /// The rows of each half that move with vertical factor `s_q12` (Q12): the `n` farthest from
@@ -677,7 +688,7 @@ mod tests {
             for (o, row) in old[1..].iter_mut().zip(img.iter()) {
                 *o = row[7];
             }
-            column(&mut img, &old, 7, &Runs::new(s));
+            column(&mut img, &old, 7, &Runs::new(s), false);
             for (y, row) in img.iter().enumerate() {
                 let d = 2 * y as i32 - CY2;
                 let q = (d * s + (CY2 << 12)) >> 5;
