@@ -873,8 +873,14 @@ mod tests {
                 m.remap_pair(&mut pair_grey, fill, &mut pair_cells, fill_c);
                 let mut plain_grey = grey;
                 plain::remap(&m, &mut plain_grey, fill);
-                assert!(pair_grey == plain_grey, "pair, grey, turn {deg}, fill {fill:?}");
-                assert!(pair_cells == plain, "pair, cells, turn {deg}, fill {fill_c:?}");
+                assert!(
+                    pair_grey == plain_grey,
+                    "pair, grey, turn {deg}, fill {fill:?}"
+                );
+                assert!(
+                    pair_cells == plain,
+                    "pair, cells, turn {deg}, fill {fill_c:?}"
+                );
             }
         }
     }
