@@ -116,20 +116,36 @@ fn columns_k<const K: usize, const UP: bool>(
     c1: usize,
 ) {
     let out = &mut row[c0 + PAD..c1 + PAD];
+    let len = out.len();
     let top = if UP { y.checked_sub(K) } else { Some(y) };
-    let span = K * WIDTH + 1;
     let base = top.map_or(usize::MAX, |t| t * WIDTH + c0);
-    let blk = m.cells.get(base..base.saturating_add(span - 1 + out.len()));
-    // offsets of the first neighbour row and of the own row in the window
+    let Some(blk) = m.cells.get(base..base.saturating_add(K * WIDTH + len)) else {
+        return;
+    };
+    // offsets of the first neighbour row and of the own row in the block
     let (v0, own) = if UP { (0, K * WIDTH) } else { (WIDTH, 0) };
-    for (o, w) in out.iter_mut().zip(blk.unwrap_or_default().windows(span)) {
-        let (mut on, mut off) = (0u32, 0u32);
-        for k in 0..K {
-            let c = w[v0 + k * WIDTH];
+    // one slice of `len` cells per row, zipped: one loop bound, no bounds test per load (rows
+    // past `K` are not read)
+    let at = |o: usize| blk.get(o..o + len).unwrap_or_default();
+    let nb = |k: usize| {
+        at(if K == 0 {
+            own
+        } else {
+            v0 + k.min(K - 1) * WIDTH
+        })
+    };
+    let cols = out.iter_mut().zip(at(own)).zip(nb(0)).zip(nb(1));
+    for ((((o, &p), &c0), &c1), (&c2, &c3)) in cols.zip(nb(2).iter().zip(nb(3))) {
+        let c = [c0, c1, c2, c3];
+        let [mut on, mut off] = [0u32, 0u32];
+        if K > 0 {
+            [on, off] = unpack(c[0]);
+        }
+        for &c in c.get(1..K).unwrap_or_default() {
             on = dsp::uxtab16(on, c);
             off = dsp::uxtab16_ror8(off, c);
         }
-        let [p_on, p_off] = unpack(w[own]);
+        let [p_on, p_off] = unpack(p);
         *o = [p_on, p_off, on, off];
     }
 }
@@ -286,15 +302,21 @@ fn seg_down<const K: usize, const SH: u32>(
     e: usize,
 ) -> u32 {
     let own = r.row.get(s + PAD..e + PAD).unwrap_or_default();
-    let span = (K - 1) * WIDTH + 1;
+    let len = own.len();
     let base = (y + 1) * WIDTH + s;
-    let blk = m.cells.get(base..base + span - 1 + own.len());
+    let blk = m.cells.get(base..base + (K - 1) * WIDTH + len);
+    // one slice of `len` cells per row below, zipped as in `columns_k` (rows past `K` unread)
+    let at = |k: usize| {
+        let o = k.min(K - 1) * WIDTH;
+        blk.and_then(|b| b.get(o..o + len)).unwrap_or_default()
+    };
     let (a, b, shift) = (r.a, r.b, r.shift);
     let mut sv = 0u32;
-    for (o, w) in own.iter().zip(blk.unwrap_or_default().windows(span)) {
-        let (mut on, mut off) = (0u32, 0u32);
-        for k in 0..K {
-            let c = w[k * WIDTH];
+    let cols = own.iter().zip(at(0)).zip(at(1));
+    for (((o, &c0), &c1), (&c2, &c3)) in cols.zip(at(2).iter().zip(at(3))) {
+        let c = [c0, c1, c2, c3];
+        let [mut on, mut off] = unpack(c[0]);
+        for &c in c.get(1..K).unwrap_or_default() {
             on = dsp::uxtab16(on, c);
             off = dsp::uxtab16_ror8(off, c);
         }
