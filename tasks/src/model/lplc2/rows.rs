@@ -27,6 +27,9 @@ pub struct Narrow {
     pub shift: u32,
     /// Connected neurons `n`.
     pub n: usize,
+    /// Rows whose sums of `LM` over the retina's width stay below `u32::MAX` (≥ 1): a band of
+    /// up to this many rows is summed in `u32`.
+    pub rows: usize,
 }
 
 impl Narrow {
@@ -51,11 +54,13 @@ impl Narrow {
         if lm_max * WIDTH as i64 > i64::from(u32::MAX) {
             return None;
         }
+        let row_max = (lm_max * WIDTH as i64).max(1);
         Some(Narrow {
             a: a as i32,
             b: b as i32,
             shift: shift.min(31),
             n: sc.n,
+            rows: (i64::from(u32::MAX) / row_max).clamp(1, HEIGHT as i64) as usize,
         })
     }
 }
@@ -353,10 +358,11 @@ fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u
 /// into at most `MAX_BP − 1` segments. For each row, every segment some field (off its
 /// centroid's row) covers is run once through the row kernel: per pixel its own values and the
 /// local motion of r, l and the row's vertical direction (u above a centroid, d below; a
-/// second, vertical-only run when the row has fields of both kinds), summed per segment.
-/// Prefix sums over the segments then give each field its quadrant segments, Eq. (8): left of
-/// `x̄` to Q2 (l + u) or Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's
-/// own row and column belong to no quadrant. A row's sums stay below `u32::MAX` (`Narrow`).
+/// second, vertical-only run when the row has fields of both kinds), summed per segment over
+/// a band of rows that no field starts, ends or crosses its centroid in. Prefix sums over the
+/// segments then give each field its quadrant segments, Eq. (8): left of `x̄` to Q2 (l + u) or
+/// Q3 (l + d), right of `x̄` to Q1 (r + u) or Q4 (r + d); the centroid's own row and column
+/// belong to no quadrant. A band's sums stay below `u32::MAX` (`Narrow::rows`).
 pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: &mut [Lplc2]) {
     let count = regions.len().min(out.len()).min(crate::model::MAX_AFS);
     let (regions, out) = (&regions[..count], &mut out[..count]);
@@ -402,15 +408,31 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
 
     let mut q = [[0u64; 4]; crate::model::MAX_AFS];
     let mut row: Row = [[0; 4]; PADDED];
-    // prefix sums over a row's segments, `pre[i]` = sums of the segments before `i`: `pre[0]`
-    // stays 0, `pre[1..bp.len()]` is rewritten on every row (slot 3 on rows with fields above
-    // and below, the only rows that read it), so it is not cleared per row
-    let mut pre = [[0u32; 4]; MAX_BP];
+    let a = u32::try_from(nw.a).unwrap_or(0);
+    let b = u32::try_from(nw.b).unwrap_or(0);
+    let shift = nw.shift;
     let (y_lo, y_hi) = fields
         .iter()
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
-    for y in y_lo..y_hi {
-        // the segments some field needs on this row, and the vertical directions
+    // Bands of rows in which no field starts, ends or crosses its centroid's row: the segments
+    // needed, the directions and the fields' quadrants are the same on every row of a band, so
+    // they are worked out once per band, and each segment's sums are added up over the band's
+    // rows before the fields take their spans. At most `nw.rows` rows a band, so that the
+    // band's sums stay below `u32::MAX` (`Narrow::rows`).
+    let mut y = y_lo;
+    while y < y_hi {
+        let mut y_end = y_hi.min(y.saturating_add(nw.rows.max(1)));
+        for &(y0, y1, cy, _) in fields {
+            for e in [y0, cy, cy.saturating_add(1), y1] {
+                if e > y && e < y_end {
+                    y_end = e;
+                }
+            }
+        }
+        let band = y..y_end;
+        let y0_band = y;
+        y = y_end;
+        // the segments some field needs in this band, and the vertical directions
         // bit 0: r, bit 1: l (left of some field's centroid), bit 2: d (some field below its
         // centroid)
         let mut need = [0u8; MAX_BP];
@@ -418,8 +440,8 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
         // the columns of the fields above their centroid (u) and of those below it (d)
         let (mut cols_u, mut cols_d) = ((WIDTH, 0), (WIDTH, 0));
         for &(y0, y1, cy, c) in fields {
-            if (y0..y1).contains(&y) && y != cy {
-                let below = y > cy;
+            if (y0..y1).contains(&y0_band) && y0_band != cy {
+                let below = y0_band > cy;
                 up |= !below;
                 down |= below;
                 let d = if below { 4 } else { 0 };
@@ -434,71 +456,69 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
         }
         let (ua, ub) = (cols_u.0.min(cols_d.0), cols_u.1.max(cols_d.1));
         let (p0, p1) = (ua.saturating_sub(n), (ub + n).min(WIDTH));
-        // own values on p0..p1; the primary vertical sums (u if the row has an upward field,
+        // own values on p0..p1; the primary vertical sums (u if the band has an upward field,
         // else d) only under the fields of that direction, va..vb: the other columns keep an
         // earlier row's sums, and their local motion enters only segments that no field of
         // the primary direction sums
         let (va, vb) = if up { cols_u } else { cols_d };
-        pack_row(&mut row, m, y, p0, va);
-        if up {
-            columns::<true>(&mut row, m, y, n, va, vb);
-        } else {
-            columns::<false>(&mut row, m, y, n, va, vb);
-        }
-        pack_row(&mut row, m, y, vb, p1);
-        let a = u32::try_from(nw.a).unwrap_or(0);
-        let b = u32::try_from(nw.b).unwrap_or(0);
-        let shift = nw.shift;
-        // prefix sums over the segments in `pre`: [r, l, primary vertical, second vertical]
-        {
+        // per segment, summed over the band's rows: [r, l, primary vertical, second vertical]
+        let mut acc = [[0u32; 4]; MAX_BP];
+        let segs = bp.len().saturating_sub(1);
+        for y in band {
+            pack_row(&mut row, m, y, p0, va);
+            if up {
+                columns::<true>(&mut row, m, y, n, va, vb);
+            } else {
+                columns::<false>(&mut row, m, y, n, va, vb);
+            }
+            pack_row(&mut row, m, y, vb, p1);
             let ctx = RowCtx {
                 row: &row,
                 a,
                 b,
                 shift,
             };
-            let mut acc = [0u32; 4];
-            for i in 0..bp.len().saturating_sub(1) {
-                let (s, e) = (bp[i], bp[i + 1]);
-                let sums = match need[i] & 3 {
-                    0 => None,
-                    1 => Some(seg_n::<true, false>(&ctx, n, s, e)),
-                    2 => Some(seg_n::<false, true>(&ctx, n, s, e)),
-                    _ => Some(seg_n::<true, true>(&ctx, n, s, e)),
+            for ((w, &nd), acc) in bp.windows(2).zip(&need[..segs]).zip(acc.iter_mut()) {
+                let (s, e) = (w[0], w[1]);
+                let sums = match nd & 3 {
+                    0 => continue,
+                    1 => seg_n::<true, false>(&ctx, n, s, e),
+                    2 => seg_n::<false, true>(&ctx, n, s, e),
+                    _ => seg_n::<true, true>(&ctx, n, s, e),
                 };
-                if let Some([r, l, v]) = sums {
-                    acc[0] = acc[0].wrapping_add(r);
-                    acc[1] = acc[1].wrapping_add(l);
-                    acc[2] = acc[2].wrapping_add(v);
+                for (a, v) in acc.iter_mut().zip(sums) {
+                    *a = a.wrapping_add(v);
                 }
-                pre[i + 1] = acc;
+            }
+            if up && down {
+                for ((w, &nd), acc) in bp.windows(2).zip(&need[..segs]).zip(acc.iter_mut()) {
+                    if nd & 4 != 0 {
+                        acc[3] = acc[3].wrapping_add(seg_down_n(&ctx, m, y, n, w[0], w[1]));
+                    }
+                }
             }
         }
-        if up && down {
-            let ctx = RowCtx {
-                row: &row,
-                a,
-                b,
-                shift,
-            };
-            let mut acc = 0u32;
-            for i in 0..bp.len().saturating_sub(1) {
-                if need[i] & 4 != 0 {
-                    acc = acc.wrapping_add(seg_down_n(&ctx, m, y, n, bp[i], bp[i + 1]));
-                }
-                pre[i + 1][3] = acc;
+        // prefix sums over the segments, in place: `pre[i]` = sums of the segments before `i`
+        // (`segs < MAX_BP`)
+        let mut run = [0u32; 4];
+        for p in acc.iter_mut() {
+            let v = *p;
+            *p = run;
+            for (r, v) in run.iter_mut().zip(v) {
+                *r = r.wrapping_add(v);
             }
         }
-        // the down sums: the primary vertical when the row has no upward field
+        let pre = &acc;
+        // the down sums: the primary vertical when the band has no upward field
         let d_slot = if up { 3 } else { 2 };
         for (&(y0, y1, cy, c), acc) in fields.iter().zip(q.iter_mut()) {
-            if !(y0..y1).contains(&y) || y == cy {
+            if !(y0..y1).contains(&y0_band) || y0_band == cy {
                 continue;
             }
             let span = |k: usize, s: usize, e: usize| u64::from(pre[e][k].wrapping_sub(pre[s][k]));
             // left: x0..x̄, right: x̄+1..=x1
             let (l0, l1, r0, r1) = (c[0], c[1], c[2], c[3]);
-            if y < cy {
+            if y0_band < cy {
                 acc[0] += span(0, r0, r1) + span(2, r0, r1);
                 acc[1] += span(1, l0, l1) + span(2, l0, l1);
             } else {

@@ -214,6 +214,42 @@ fn the_paper_parameters_take_the_row_kernel() {
     assert_eq!(Narrow::new(&LmScale::new(&p)), None);
 }
 
+#[test]
+fn short_bands_sum_as_long_ones() {
+    // `Narrow::rows` caps the rows a band sums in `u32`; any cap gives the same quadrants
+    let sc = LmScale::new(&Params::PAPER);
+    let nw = Narrow::new(&sc).expect("narrow");
+    assert_eq!(nw.rows, HEIGHT, "Table I sums a whole frame in u32");
+    let maps = crate::model::hrc::random_maps(777);
+    let cells = cells_of([&maps[0], &maps[1], &maps[2], &maps[3]]);
+    let m = Maps::new(&cells);
+    let regions = [
+        Region {
+            centre: (30, 20),
+            cols: (5, 55),
+            rows: (0, 45),
+        },
+        Region {
+            centre: (50, 50),
+            cols: (20, 80),
+            rows: (25, 71),
+        },
+        Region {
+            centre: (70, 30),
+            cols: (40, 98),
+            rows: (2, 60),
+        },
+    ];
+    let gate = g(0, 0, 4);
+    let mut want = [Lplc2::default(); 3];
+    integrate_rows(&m, &nw, &regions, &gate, &mut want);
+    for rows in [1, 2, 3, 7] {
+        let mut got = [Lplc2::default(); 3];
+        integrate_rows(&m, &Narrow { rows, ..nw }, &regions, &gate, &mut got);
+        assert_eq!(got, want, "rows {rows}");
+    }
+}
+
 /// Maps from a seed: noise, noise thinned to sparse dots, or smooth low values.
 fn maps_of(seed: u32, kind: u8) -> [[u8; PIXELS]; 4] {
     let mut maps = crate::model::hrc::random_maps(seed);
