@@ -273,27 +273,6 @@ fn seg_vs<const R: bool, const L: bool, const N: usize, const SH: u32>(
     }
 }
 
-/// [`seg_vs`] for the row's `n`.
-#[inline(always)]
-fn seg_n<const R: bool, const L: bool>(r: &RowCtx, n: usize, s: usize, e: usize) -> [u32; 3] {
-    if (n, r.a, r.b, r.shift) == (3, 1, 16, 8) {
-        // Table I (`t4_q16 = 2^16`, `t5_q16 = 2^20`, `shift = 24`): constants free registers
-        let paper = RowCtx {
-            a: 1,
-            b: 16,
-            shift: 8,
-            ..*r
-        };
-        return seg_vs::<R, L, 3, 8>(&paper, s, e);
-    }
-    match n {
-        1 => seg_vs::<R, L, 1, 0>(r, s, e),
-        2 => seg_vs::<R, L, 2, 0>(r, s, e),
-        3 => seg_vs::<R, L, 3, 0>(r, s, e),
-        _ => seg_vs::<R, L, 4, 0>(r, s, e),
-    }
-}
-
 /// `Σ LM_d` over the columns `s..e` of row `y` with `K ≥ 1` neurons below it, all on the
 /// retina: the second vertical direction of a row with fields above and below. The down sums
 /// are taken from the cells as they are needed (as in [`columns_k`]), not stored in the row.
@@ -330,25 +309,21 @@ fn seg_down<const K: usize, const SH: u32>(
     sv
 }
 
-/// [`seg_down`] with `K = min(n, rows below y)` (none: no neighbour, no motion).
-fn seg_down_n(r: &RowCtx, m: &Maps, y: usize, n: usize, s: usize, e: usize) -> u32 {
-    let k = n.min((HEIGHT - 1).saturating_sub(y));
-    if (k, r.a, r.b, r.shift) == (3, 1, 16, 8) {
-        // Table I, as in `seg_n`
-        let paper = RowCtx {
-            a: 1,
-            b: 16,
-            shift: 8,
-            ..*r
-        };
-        return seg_down::<3, 8>(&paper, m, y, s, e);
-    }
-    match k {
-        0 => 0,
-        1 => seg_down::<1, 0>(r, m, y, s, e),
-        2 => seg_down::<2, 0>(r, m, y, s, e),
-        3 => seg_down::<3, 0>(r, m, y, s, e),
-        _ => seg_down::<4, 0>(r, m, y, s, e),
+/// [`seg_down`] with `K = min(N, rows below y)` (none: no neighbour, no motion).
+#[inline(always)]
+fn seg_down_n<const N: usize, const SH: u32>(
+    r: &RowCtx,
+    m: &Maps,
+    y: usize,
+    s: usize,
+    e: usize,
+) -> u32 {
+    match N.min((HEIGHT - 1).saturating_sub(y)) {
+        k if k == N => seg_down::<N, SH>(r, m, y, s, e),
+        1 => seg_down::<1, SH>(r, m, y, s, e),
+        2 => seg_down::<2, SH>(r, m, y, s, e),
+        3 => seg_down::<3, SH>(r, m, y, s, e),
+        _ => 0,
     }
 }
 
@@ -407,10 +382,36 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
     let fields = &fields[..count];
 
     let mut q = [[0u64; 4]; crate::model::MAX_AFS];
-    let mut row: Row = [[0; 4]; PADDED];
     let a = u32::try_from(nw.a).unwrap_or(0);
     let b = u32::try_from(nw.b).unwrap_or(0);
-    let shift = nw.shift;
+    let (rows, shift) = (nw.rows, nw.shift);
+    // the kernels' `n` and Table I's constants chosen once, not per segment
+    let (f, q_) = (fields, &mut q);
+    match n {
+        3 if (a, b, shift) == (1, 16, 8) => bands::<3, 8>(m, (1, 16, 8), rows, f, bp, q_),
+        1 => bands::<1, 0>(m, (a, b, shift), rows, f, bp, q_),
+        2 => bands::<2, 0>(m, (a, b, shift), rows, f, bp, q_),
+        3 => bands::<3, 0>(m, (a, b, shift), rows, f, bp, q_),
+        _ => bands::<4, 0>(m, (a, b, shift), rows, f, bp, q_),
+    }
+    for (o, qk) in out.iter_mut().zip(q.iter()) {
+        *o = Lplc2::from_sums(*qk, g);
+    }
+}
+
+/// The rows of [`integrate_rows`] with `N` connected neurons (`SH` as in [`lm`]): the
+/// `fields` (rows, centroid row, breakpoint indices) add their quadrant sums to `q`.
+#[inline(always)]
+fn bands<const N: usize, const SH: u32>(
+    m: &Maps,
+    (a, b, shift): (u32, u32, u32),
+    rows: usize,
+    fields: &[(usize, usize, usize, [usize; 4])],
+    bp: &[usize],
+    q: &mut [[u64; 4]; crate::model::MAX_AFS],
+) {
+    let n = N;
+    let mut row: Row = [[0; 4]; PADDED];
     let (y_lo, y_hi) = fields
         .iter()
         .fold((HEIGHT, 0), |(a, b), f| (a.min(f.0), b.max(f.1)));
@@ -421,7 +422,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
     // band's sums stay below `u32::MAX` (`Narrow::rows`).
     let mut y = y_lo;
     while y < y_hi {
-        let mut y_end = y_hi.min(y.saturating_add(nw.rows.max(1)));
+        let mut y_end = y_hi.min(y.saturating_add(rows.max(1)));
         for &(y0, y1, cy, _) in fields {
             for e in [y0, cy, cy.saturating_add(1), y1] {
                 if e > y && e < y_end {
@@ -482,9 +483,9 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
                 let (s, e) = (w[0], w[1]);
                 let sums = match nd & 3 {
                     0 => continue,
-                    1 => seg_n::<true, false>(&ctx, n, s, e),
-                    2 => seg_n::<false, true>(&ctx, n, s, e),
-                    _ => seg_n::<true, true>(&ctx, n, s, e),
+                    1 => seg_vs::<true, false, N, SH>(&ctx, s, e),
+                    2 => seg_vs::<false, true, N, SH>(&ctx, s, e),
+                    _ => seg_vs::<true, true, N, SH>(&ctx, s, e),
                 };
                 for (a, v) in acc.iter_mut().zip(sums) {
                     *a = a.wrapping_add(v);
@@ -493,7 +494,7 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
             if up && down {
                 for ((w, &nd), acc) in bp.windows(2).zip(&need[..segs]).zip(acc.iter_mut()) {
                     if nd & 4 != 0 {
-                        acc[3] = acc[3].wrapping_add(seg_down_n(&ctx, m, y, n, w[0], w[1]));
+                        acc[3] = acc[3].wrapping_add(seg_down_n::<N, SH>(&ctx, m, y, w[0], w[1]));
                     }
                 }
             }
@@ -526,8 +527,5 @@ pub fn integrate_rows(m: &Maps, nw: &Narrow, regions: &[Region], g: &Gate, out: 
                 acc[2] += span(1, l0, l1) + span(d_slot, l0, l1);
             }
         }
-    }
-    for (o, qk) in out.iter_mut().zip(q.iter()) {
-        *o = Lplc2::from_sums(*qk, g);
     }
 }
