@@ -420,6 +420,10 @@ fn bands<const N: usize, const SH: u32>(
     // they are worked out once per band, and each segment's sums are added up over the band's
     // rows before the fields take their spans. At most `nw.rows` rows a band, so that the
     // band's sums stay below `u32::MAX` (`Narrow::rows`).
+    // a band's segment sums and kernel calls (below), rewritten as far as each band uses them
+    let mut acc = [[0u32; 4]; MAX_BP];
+    let mut calls = [(0u8, 0u8, 0u8, 0u8); MAX_BP];
+    let mut downs = [(0u8, 0u8, 0u8); MAX_BP];
     let mut y = y_lo;
     while y < y_hi {
         let mut y_end = y_hi.min(y.saturating_add(rows.max(1)));
@@ -462,9 +466,58 @@ fn bands<const N: usize, const SH: u32>(
         // earlier row's sums, and their local motion enters only segments that no field of
         // the primary direction sums
         let (va, vb) = if up { cols_u } else { cols_d };
-        // per segment, summed over the band's rows: [r, l, primary vertical, second vertical]
-        let mut acc = [[0u32; 4]; MAX_BP];
         let segs = bp.len().saturating_sub(1);
+        // per segment, summed over the band's rows: [r, l, primary vertical, second vertical]
+        // (zeroed where this band's segments and prefix sums use it)
+        acc.iter_mut().take(segs + 1).for_each(|a| *a = [0; 4]);
+        // the breakpoints some field's spans start or end at (bit `i`: breakpoint `i`), per sum:
+        // r, l, the primary vertical, the second one (d in a band with fields above and below)
+        let mut cut = [0u32; 4];
+        let bit = |i: usize| 1u32.checked_shl(i as u32).unwrap_or(0);
+        for &(y0, y1, cy, c) in fields {
+            if (y0..y1).contains(&y0_band) && y0_band != cy {
+                let (l, r) = (bit(c[0]) | bit(c[1]), bit(c[2]) | bit(c[3]));
+                cut[0] |= r;
+                cut[1] |= l;
+                cut[if up && y0_band > cy { 3 } else { 2 }] |= l | r;
+            }
+        }
+        // the kernel calls: runs of segments that need the same directions, cut only where a
+        // sum they compute is read (a run's sums go to its first segment, the others keep 0:
+        // the prefix sums are the same at every cut a field reads). Main pass: (first segment,
+        // start, end, r/l need); second vertical: (first segment, start, end).
+        let (mut nc, mut nd) = (0, 0);
+        let col = |i: usize| bp.get(i).map_or(0, |&c| c as u8);
+        let mut i = 0;
+        while i < segs {
+            let kind = need[i] & 3;
+            let reads = cut[2] | [0, cut[0], cut[1], cut[0] | cut[1]][usize::from(kind)];
+            let mut j = i + 1;
+            while j < segs && need[j] & 3 == kind && reads & bit(j) == 0 {
+                j += 1;
+            }
+            if kind != 0 {
+                if let Some(c) = calls.get_mut(nc) {
+                    *c = (i as u8, col(i), col(j), kind);
+                    nc += 1;
+                }
+            }
+            i = j;
+        }
+        let mut i = 0;
+        while i < segs && up && down {
+            let mut j = i + 1;
+            if need[i] & 4 != 0 {
+                while j < segs && need[j] & 4 != 0 && cut[3] & bit(j) == 0 {
+                    j += 1;
+                }
+                if let Some(c) = downs.get_mut(nd) {
+                    *c = (i as u8, col(i), col(j));
+                    nd += 1;
+                }
+            }
+            i = j;
+        }
         for y in band {
             pack_row(&mut row, m, y, p0, va);
             if up {
@@ -479,30 +532,30 @@ fn bands<const N: usize, const SH: u32>(
                 b,
                 shift,
             };
-            for ((w, &nd), acc) in bp.windows(2).zip(&need[..segs]).zip(acc.iter_mut()) {
-                let (s, e) = (w[0], w[1]);
-                let sums = match nd & 3 {
-                    0 => continue,
+            for &(i, s, e, kind) in calls.get(..nc).unwrap_or_default() {
+                let (s, e) = (usize::from(s), usize::from(e));
+                let sums = match kind {
                     1 => seg_vs::<true, false, N, SH>(&ctx, s, e),
                     2 => seg_vs::<false, true, N, SH>(&ctx, s, e),
                     _ => seg_vs::<true, true, N, SH>(&ctx, s, e),
                 };
-                for (a, v) in acc.iter_mut().zip(sums) {
-                    *a = a.wrapping_add(v);
+                if let Some(acc) = acc.get_mut(usize::from(i)) {
+                    for (a, v) in acc.iter_mut().zip(sums) {
+                        *a = a.wrapping_add(v);
+                    }
                 }
             }
-            if up && down {
-                for ((w, &nd), acc) in bp.windows(2).zip(&need[..segs]).zip(acc.iter_mut()) {
-                    if nd & 4 != 0 {
-                        acc[3] = acc[3].wrapping_add(seg_down_n::<N, SH>(&ctx, m, y, w[0], w[1]));
-                    }
+            for &(i, s, e) in downs.get(..nd).unwrap_or_default() {
+                let d = seg_down_n::<N, SH>(&ctx, m, y, usize::from(s), usize::from(e));
+                if let Some(acc) = acc.get_mut(usize::from(i)) {
+                    acc[3] = acc[3].wrapping_add(d);
                 }
             }
         }
         // prefix sums over the segments, in place: `pre[i]` = sums of the segments before `i`
         // (`segs < MAX_BP`)
         let mut run = [0u32; 4];
-        for p in acc.iter_mut() {
+        for p in acc.iter_mut().take(segs + 1) {
             let v = *p;
             *p = run;
             for (r, v) in run.iter_mut().zip(v) {
