@@ -92,34 +92,22 @@ fn peak_table_i(cells: &[u32]) -> u32 {
 }
 
 /// `Σ L̂` in two lanes and `Σ L̂·x` of the pixels of `quads` at or above the floor (`floor2`,
-/// in both lanes), the first pair's columns `xs` (`[x, x + 1]`): per pair the floor as a
-/// lane-wise select (`USUB16` + `SEL`), a lane-wise add and one `SMLAD`. A row's lanes sum at
-/// most 50 pixels each (`≤ 63,750`): no carry between them.
+/// in both lanes), the first pair's columns `xs` (`[x, x + 1]`), one [`moments_quad`] each. A
+/// row's lanes sum at most 50 pixels each (`≤ 63,750`): no carry between them.
 #[inline(always)]
-fn moments_table_i(quads: &[[u32; 4]], floor2: u32, mut xs: u32) -> (u32, i32) {
-    let (mut s2, mut sx) = (0u32, 0i32);
-    for q in quads {
-        let a = sal2_table_i(q[0], q[1]);
-        let a = dsp::sel_ge16(a, floor2, a, 0);
-        let b = sal2_table_i(q[2], q[3]);
-        let b = dsp::sel_ge16(b, floor2, b, 0);
-        s2 = s2.wrapping_add(a).wrapping_add(b);
-        sx = dsp::smlad(a, xs, sx);
-        sx = dsp::smlad(b, xs.wrapping_add(0x0002_0002), sx);
-        xs = xs.wrapping_add(0x0004_0004);
-    }
+fn moments_table_i(quads: &[[u32; 4]], floor2: u32, xs: u32) -> (u32, i32) {
+    let step = 0x0002_0002;
+    let (s2, sx, _) = quads.iter().fold((0, 0, xs), |(s2, sx, xs), q| {
+        let (s2, sx) = moments_quad(q, [floor2; 2], [xs, xs.wrapping_add(step)], s2, sx);
+        (s2, sx, xs.wrapping_add(2 * step))
+    });
     (s2, sx)
 }
 
-/// [`moments_table_i`] of one quad with a floor and the columns per pair, added to `(s2, sx)`.
+/// One quad's `Σ L̂` (lane-wise) and `Σ L̂·x` added to `(s2, sx)`: per pair its floor as a
+/// lane-wise select (`USUB16` + `SEL`), a lane-wise add and one `SMLAD` against its columns.
 #[inline(always)]
-fn moments_table_i_last(
-    q: &[u32; 4],
-    floor: [u32; 2],
-    xs: [u32; 2],
-    s2: u32,
-    sx: i32,
-) -> (u32, i32) {
+fn moments_quad(q: &[u32; 4], floor: [u32; 2], xs: [u32; 2], s2: u32, sx: i32) -> (u32, i32) {
     let a = sal2_table_i(q[0], q[1]);
     let a = dsp::sel_ge16(a, floor[0], a, 0);
     let b = sal2_table_i(q[2], q[3]);
@@ -452,7 +440,7 @@ impl Fields {
                     Some(last) => {
                         let (quads, _) = row.as_chunks::<4>();
                         let (s2, sx) = moments_table_i(quads, floor2, xs0);
-                        let (s2, sx) = moments_table_i_last(last, last_floor, last_xs, s2, sx);
+                        let (s2, sx) = moments_quad(last, last_floor, last_xs, s2, sx);
                         // lanes of at most 50 pixels: `Σ L̂ ≤ 63,750` each, no carry between
                         // them; `Σ L̂·x ≥ 0`
                         ((s2 & 0xFFFF) + (s2 >> 16), sx as u32)

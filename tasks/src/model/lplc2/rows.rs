@@ -444,6 +444,10 @@ fn bands<const N: usize, const SH: u32>(
         let (mut up, mut down) = (false, false);
         // the columns of the fields above their centroid (u) and of those below it (d)
         let (mut cols_u, mut cols_d) = ((WIDTH, 0), (WIDTH, 0));
+        // the breakpoints some field's spans start or end at (bit `i`: breakpoint `i`), per
+        // sum: r, l, and the vertical of the fields above their centroid (u) and below it (d)
+        let bit = |i: usize| 1u32.checked_shl(i as u32).unwrap_or(0);
+        let (mut cut_r, mut cut_l, mut cut_v) = (0u32, 0u32, [0u32; 2]);
         for &(y0, y1, cy, c) in fields {
             if (y0..y1).contains(&y0_band) && y0_band != cy {
                 let below = y0_band > cy;
@@ -454,6 +458,10 @@ fn bands<const N: usize, const SH: u32>(
                 need[c[2]..c[3]].iter_mut().for_each(|m| *m |= 1 | d);
                 let cols = if below { &mut cols_d } else { &mut cols_u };
                 *cols = (cols.0.min(bp[c[0]]), cols.1.max(bp[c[3]]));
+                let (l, r) = (bit(c[0]) | bit(c[1]), bit(c[2]) | bit(c[3]));
+                cut_r |= r;
+                cut_l |= l;
+                cut_v[usize::from(below)] |= l | r;
             }
         }
         if !(up || down) {
@@ -470,18 +478,14 @@ fn bands<const N: usize, const SH: u32>(
         // per segment, summed over the band's rows: [r, l, primary vertical, second vertical]
         // (zeroed where this band's segments and prefix sums use it)
         acc.iter_mut().take(segs + 1).for_each(|a| *a = [0; 4]);
-        // the breakpoints some field's spans start or end at (bit `i`: breakpoint `i`), per sum:
-        // r, l, the primary vertical, the second one (d in a band with fields above and below)
-        let mut cut = [0u32; 4];
-        let bit = |i: usize| 1u32.checked_shl(i as u32).unwrap_or(0);
-        for &(y0, y1, cy, c) in fields {
-            if (y0..y1).contains(&y0_band) && y0_band != cy {
-                let (l, r) = (bit(c[0]) | bit(c[1]), bit(c[2]) | bit(c[3]));
-                cut[0] |= r;
-                cut[1] |= l;
-                cut[if up && y0_band > cy { 3 } else { 2 }] |= l | r;
-            }
-        }
+        // the cuts per sum as `acc` holds them: r, l, the primary vertical, the second one (d in
+        // a band with fields above and below)
+        let [cut_u, cut_d] = cut_v;
+        let cut = if up {
+            [cut_r, cut_l, cut_u, cut_d]
+        } else {
+            [cut_r, cut_l, cut_d, 0]
+        };
         // the kernel calls: runs of segments that need the same directions, cut only where a
         // sum they compute is read (a run's sums go to its first segment, the others keep 0:
         // the prefix sums are the same at every cut a field reads). Main pass: (first segment,
